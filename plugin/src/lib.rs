@@ -1,0 +1,2 @@
+//! Papier: a sheet of paper as an instrument.
+pub mod render;

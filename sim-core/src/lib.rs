@@ -1,0 +1,35 @@
+//! # sim-core: a sheet of paper, simulated
+//!
+//! Papier's simulation crate. It knows nothing of audio, threads or the plugin: the plugin's
+//! worker thread, the offline renderer and the tests all drive it the same way, one frame at a
+//! time, in lockstep with whatever clock they follow.
+//!
+//! The model follows the hybrid crumpling method of the seeds (thesis ch. 2,
+//! `../shared/seeds/000_cb4d91e46ec5927f.txt` §2.2–2.5; TOG 2015,
+//! `../shared/seeds/001_44bc28f7c5e9f81f.txt` §3–6): a coarse physical mesh S_P is relaxed by a
+//! physics step, then a developable-geometry layer S_G keeps the surface piecewise developable.
+//!
+//! Per frame, in order:
+//! 1. commands (gestures, grabs, room changes) are applied ([`control`]);
+//! 2. the gesture rig turns gesture values into handle targets;
+//! 3. the physics step moves S_P with the handles as hard constraints;
+//! 4. the geometry layer updates S_G;
+//! 5. per-frame outputs for sound are written into a [`sound_input::SoundFrame`].
+//!
+//! Inputs are described by [`control::Command`]; scripted inputs (automation lanes and grabs)
+//! by [`script::Script`].
+
+#![warn(missing_docs)]
+
+pub mod control;
+pub mod mesh_snapshot;
+pub mod room;
+pub mod script;
+pub mod sim;
+pub mod sound_input;
+
+pub use control::{Command, GestureParam, GrabSlot, Material, SheetSize};
+pub use mesh_snapshot::MeshSnapshot;
+pub use room::RoomConfig;
+pub use sim::{FrameOutput, SavedSheet, Sim, SimConfig};
+pub use sound_input::SoundFrame;
