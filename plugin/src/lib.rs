@@ -1,2 +1,264 @@
-//! Papier: a sheet of paper as an instrument.
+//! # Papier: a sheet of paper as an instrument
+//!
+//! A CLAP/VST3 instrument (MIDI in, stereo out) whose voice is a simulated sheet of paper. MIDI
+//! notes grab and release its edges and corners, CCs and automation drive gestures (crumple,
+//! slide, lift, twist, shake, tear), a physically inspired simulation of the sheet runs on a
+//! worker thread ([`engine`]), and the sound is synthesized from the sheet's geometry
+//! ([`render`]).
+//!
+//! Modules:
+//! - [`params`]: the automatable parameters and the persisted state layout;
+//! - [`gesture_map`]: MIDI → gesture commands (shared with `papier-render`);
+//! - [`engine`]: parameter diffing, the simulation thread / lockstep stepping, the render call;
+//! - [`render`]: the audio render path (no nice-plug types);
+//! - [`state`]: the sheet saved with the project;
+//! - [`editor`]: the egui window;
+//! - [`offline`]: the offline renderer behind `papier-render`.
+
+pub mod editor;
+pub mod engine;
+pub mod gesture_map;
+pub mod offline;
+pub mod params;
 pub mod render;
+pub mod state;
+
+use std::num::NonZeroU32;
+use std::sync::Arc;
+
+use nice_plug::prelude::*;
+use sim_core::{Sim, SimConfig};
+use sounddb::SoundDb;
+
+use crate::engine::{Engine, Meters, ParamValues, SimMode};
+use crate::gesture_map::MidiInput;
+use crate::params::PapierParams;
+
+/// The sim config a fresh sheet gets from the parameters.
+pub fn sim_config(p: &ParamValues) -> SimConfig {
+    SimConfig {
+        size: p.size,
+        material: p.material,
+        seed: p.seed,
+        room: p.room,
+        ..SimConfig::default()
+    }
+}
+
+/// Converts a nice-plug note event into the engine's MIDI input; `None` for events Papier does
+/// not use.
+pub fn midi_input<S>(event: &NoteEvent<S>) -> Option<(MidiInput, u32)> {
+    match *event {
+        NoteEvent::NoteOn {
+            timing,
+            key,
+            velocity,
+            ..
+        } => match key.number() {
+            Some(k) if velocity > 0.0 => Some((MidiInput::NoteOn { key: k, velocity }, timing)),
+            Some(k) => Some((MidiInput::NoteOff { key: k }, timing)),
+            None => None,
+        },
+        NoteEvent::NoteOff { timing, key, .. } | NoteEvent::Choke { timing, key, .. } => {
+            match key.number() {
+                Some(k) => Some((MidiInput::NoteOff { key: k }, timing)),
+                None => Some((MidiInput::AllNotesOff, timing)),
+            }
+        }
+        NoteEvent::MidiCC {
+            timing, cc, value, ..
+        } => Some((MidiInput::Cc { cc, value }, timing)),
+        _ => None,
+    }
+}
+
+/// The plugin.
+pub struct Papier {
+    params: Arc<PapierParams>,
+    meters: Arc<Meters>,
+    editor_state: Arc<nice_plug_egui::EguiEditorState>,
+    /// The running engine (between `activate()` and `deactivate()`).
+    engine: Option<Engine>,
+    /// The sheet while no engine runs, with the store generation it is based on.
+    parked: Option<(Sim, u64)>,
+    /// The sound database in use.
+    db: Arc<SoundDb>,
+}
+
+impl Default for Papier {
+    fn default() -> Self {
+        Self {
+            params: Arc::new(PapierParams::default()),
+            meters: Arc::new(Meters::default()),
+            editor_state: editor::default_state(),
+            engine: None,
+            parked: None,
+            db: Arc::new(SoundDb::empty()),
+        }
+    }
+}
+
+impl Papier {
+    fn stop_engine(&mut self) {
+        if let Some(engine) = self.engine.take()
+            && let Some((sim, generation)) = engine.into_sim()
+        {
+            // A moving sheet is published so the saved project holds where it is now; a sheet
+            // at rest was already published when it came to rest.
+            if !sim.is_asleep() {
+                self.params.sheet_store.publish(sim.save(), generation);
+            }
+            self.parked = Some((sim, generation));
+        }
+    }
+}
+
+impl Drop for Papier {
+    fn drop(&mut self) {
+        self.stop_engine();
+    }
+}
+
+impl Plugin for Papier {
+    const NAME: &'static str = "Papier";
+    const VENDOR: &'static str = "Papier";
+    const URL: &'static str = "https://papier.invalid";
+    const EMAIL: &'static str = "papier@papier.invalid";
+    const VERSION: &'static str = env!("CARGO_PKG_VERSION");
+
+    const AUDIO_IO_LAYOUTS: &'static [AudioIOLayout] = &[AudioIOLayout {
+        main_input_channels: None,
+        main_output_channels: NonZeroU32::new(2),
+        ..AudioIOLayout::const_default()
+    }];
+    const MIDI_INPUT: MidiConfig = MidiConfig::MidiCCs;
+    const SAMPLE_ACCURATE_AUTOMATION: bool = true;
+
+    type Editor = nice_plug_egui::EguiEditor<editor::PapierEditor>;
+    type SysExMessage = ();
+    type BackgroundTask = ();
+
+    fn params(&self) -> Arc<dyn Params> {
+        self.params.clone()
+    }
+
+    fn editor(&mut self, _async_executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
+        editor::create(
+            self.params.clone(),
+            self.meters.clone(),
+            self.editor_state.clone(),
+        )
+    }
+
+    fn activate(
+        &mut self,
+        _audio_io_layout: &AudioIOLayout,
+        buffer_config: &BufferConfig,
+        _context: &mut impl ActivateContext<Self>,
+    ) -> bool {
+        self.stop_engine();
+        let mode = if buffer_config.process_mode == ProcessMode::Offline {
+            SimMode::Lockstep
+        } else {
+            SimMode::Threaded
+        };
+        let values = self.params.values();
+        let store = self.params.sheet_store.clone();
+        let (mut sim, mut generation) = self
+            .parked
+            .take()
+            .unwrap_or_else(|| (Sim::new(sim_config(&values)), 0));
+        if generation != store.generation() {
+            generation = engine::worker::restore_from_store(&mut sim, &store, generation);
+        }
+        match Engine::new(
+            mode,
+            f64::from(buffer_config.sample_rate),
+            sim,
+            &values,
+            self.db.clone(),
+            store,
+            generation,
+            self.meters.clone(),
+        ) {
+            Ok(engine) => {
+                self.engine = Some(engine);
+                true
+            }
+            Err(e) => {
+                nice_error!("Papier cannot activate: {e}");
+                false
+            }
+        }
+    }
+
+    fn reset(&mut self) {
+        if let Some(engine) = self.engine.as_mut() {
+            engine.reset_audio();
+        }
+    }
+
+    fn deactivate(&mut self) {
+        self.stop_engine();
+    }
+
+    fn process(
+        &mut self,
+        buffer: &mut Buffer,
+        _aux: &mut AuxiliaryBuffers,
+        context: &mut impl ProcessContext<Self>,
+    ) -> ProcessStatus {
+        let channels = buffer.as_slice();
+        let Some(engine) = self.engine.as_mut() else {
+            for c in channels.iter_mut() {
+                c.fill(0.0);
+            }
+            return ProcessStatus::Normal;
+        };
+        engine.begin_block(&self.params.values());
+        while let Some(event) = context.next_event() {
+            if let Some((input, timing)) = midi_input(&event) {
+                engine.midi(input, timing);
+            }
+        }
+        match channels {
+            [left, right, ..] => engine.render(left, right),
+            [mono] => {
+                // Not a layout Papier declares; render the left ear into it rather than fail.
+                let n = mono.len();
+                let mut scratch = [0.0f32; 64];
+                let mut pos = 0;
+                while pos < n {
+                    let m = (n - pos).min(scratch.len());
+                    let (l, r) = (&mut mono[pos..pos + m], &mut scratch[..m]);
+                    engine.render(l, r);
+                    pos += m;
+                }
+            }
+            [] => {}
+        }
+        ProcessStatus::KeepAlive
+    }
+}
+
+impl ClapPlugin for Papier {
+    const CLAP_ID: &'static str = "org.papier.papier";
+    const CLAP_DESCRIPTION: Option<&'static str> =
+        Some("A sheet of paper: crumple, bend, slide, shake and tear it, hear it.");
+    const CLAP_MANUAL_URL: Option<&'static str> = None;
+    const CLAP_SUPPORT_URL: Option<&'static str> = None;
+    const CLAP_FEATURES: &'static [ClapFeature] = &[
+        ClapFeature::Instrument,
+        ClapFeature::Synthesizer,
+        ClapFeature::Stereo,
+    ];
+}
+
+impl Vst3Plugin for Papier {
+    const VST3_CLASS_ID: [u8; 16] = *b"PapierSheetPaper";
+    const VST3_SUBCATEGORIES: &'static [Vst3SubCategory] =
+        &[Vst3SubCategory::Instrument, Vst3SubCategory::Synth];
+}
+
+nice_export_clap!(Papier);
+nice_export_vst3!(Papier);

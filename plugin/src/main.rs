@@ -1,1 +1,9 @@
-fn main() {}
+//! The standalone Papier application (nice-plug's standalone wrapper: JACK or ALSA audio and
+//! MIDI, the same editor). Built with `--features standalone`.
+
+use nice_plug::prelude::*;
+use papier::Papier;
+
+fn main() {
+    nice_export_standalone::<Papier>();
+}

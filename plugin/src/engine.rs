@@ -1,0 +1,462 @@
+//! # The engine: gestures in, sheet stepped, sound out
+//!
+//! One engine serves the plugin's `process()` and the offline renderer `papier-render`; both
+//! drive it the same way, block by block:
+//!
+//! 1. [`Engine::begin_block`] with the current parameter values: changed gesture, sheet and
+//!    room parameters become simulation commands stamped at the block start; mix and listener
+//!    changes go to the render path;
+//! 2. [`Engine::midi`] for each MIDI message of the block, in time order, with its offset: the
+//!    shared mapping ([`crate::gesture_map`]) turns it into a command stamped at its sample;
+//! 3. [`Engine::render`] fills the block.
+//!
+//! ```text
+//!  host / papier-render                 audio thread                      sim worker thread
+//!  ──────────────────                 ────────────                      ─────────────────
+//!  params, MIDI ──► Engine::begin_block / midi ──► commands ══ArrayQueue══►  apply, Sim::step
+//!                                                                            │ per frame
+//!                   Engine::render ◄══ triple_buffer (SimSnapshot) ═══════════┤
+//!                        │         ◄══ ArrayQueue (SimEvent: crumple) ════════┘
+//!                        ▼                 ▲ audio sample clock (AtomicU64) ──► worker paces on it
+//!                 Renderer (units, friction iFFT, tear noise, dipole + images) ──► output
+//! ```
+//!
+//! Two ways to run the sheet ([`SimMode`]):
+//! - **Threaded** (real time): the worker thread above. The audio thread never waits: it renders
+//!   with the latest snapshot and whatever events have arrived. Latency from a gesture to its
+//!   sound is at most one simulation frame plus one block (plus the step time).
+//! - **Lockstep** (offline: the host's offline render mode, `papier-render`, tests): the engine
+//!   steps the sheet itself, exactly at each frame boundary inside the block. Output is then a
+//!   pure function of the inputs and their sample times: it does not depend on the block size or
+//!   on how the host splits blocks, and two renders give identical bits.
+//!
+//! In both modes frame `k` is stepped when the audio clock reaches the end of its span, after
+//! applying every command stamped before that end ([`frame_clock`]).
+
+pub mod frame_clock;
+pub mod messages;
+pub mod meters;
+pub mod param_values;
+pub mod worker;
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+
+use sim_core::sound_input::SoundFrame;
+use sim_core::{Command, FrameOutput, GestureParam, Sim};
+use sounddb::SoundDb;
+
+pub use self::frame_clock::FrameClock;
+use self::messages::{
+    COMMAND_QUEUE_CAPACITY, EVENT_QUEUE_CAPACITY, SimEventKind, SimSnapshot, WorkerMsg,
+    WorkerMsgKind,
+};
+pub use self::meters::Meters;
+pub use self::param_values::{ParamError, ParamValues};
+use self::worker::{PUBLISH_INTERVAL_FRAMES, WorkerHandle, WorkerShared, WorkerState};
+use crate::gesture_map::{self, Action, MidiInput};
+use crate::render::{MixLevels, Renderer, Scene};
+use crate::state::SheetStore;
+
+/// How the sheet is simulated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SimMode {
+    /// Stepped inline by the engine at frame boundaries (offline, deterministic).
+    Lockstep,
+    /// Stepped by a worker thread that follows the audio clock (real time).
+    Threaded,
+}
+
+/// Lowest gain the MIDI volume can produce, dB (CC 7 = 0 maps here, not to −∞).
+const MIN_VOLUME_DB: f32 = -120.0;
+
+/// Why an engine could not be started.
+#[derive(Debug, thiserror::Error)]
+pub enum EngineError {
+    /// The worker thread could not be spawned.
+    #[error("cannot start the simulation thread: {0}")]
+    Spawn(#[from] std::io::Error),
+}
+
+struct Lockstep {
+    sim: Box<Sim>,
+    out: Box<FrameOutput>,
+    next_frame: u64,
+    pending: VecDeque<(u64, WorkerMsgKind)>,
+    was_awake: bool,
+    frames_since_publish: u64,
+    /// Store generation the sheet is based on (publishes are refused after a newer load).
+    sheet_generation: u64,
+}
+
+struct Threaded {
+    worker: WorkerHandle,
+    shared: Arc<WorkerShared>,
+    snapshots: triple_buffer::Output<SimSnapshot>,
+    last_frames: u64,
+}
+
+enum Host {
+    Lockstep(Lockstep),
+    Threaded(Threaded),
+}
+
+/// The engine (see the module docs).
+pub struct Engine {
+    clock: u64,
+    frames: FrameClock,
+    last: ParamValues,
+    midi_volume: f32,
+    renderer: Renderer,
+    store: Arc<SheetStore>,
+    store_generation: u64,
+    meters: Arc<Meters>,
+    host: Host,
+}
+
+fn mix_levels(p: &ParamValues, midi_volume: f32) -> MixLevels {
+    let vol_db = if midi_volume > 0.0 {
+        (20.0 * midi_volume.log10()).max(MIN_VOLUME_DB)
+    } else {
+        MIN_VOLUME_DB
+    };
+    MixLevels {
+        crumple_db: p.mix_crumple_db,
+        friction_db: p.mix_friction_db,
+        tear_db: p.mix_tear_db,
+        output_db: p.gain_db + vol_db,
+    }
+}
+
+fn scene(p: &ParamValues) -> Scene {
+    Scene {
+        room: p.room,
+        listener_az_deg: p.listener_az_deg,
+        listener_dist_m: p.listener_dist_m,
+    }
+}
+
+impl Engine {
+    /// Starts an engine around a sheet. `store_generation` is the sheet store generation the
+    /// sheet is based on. Allocates (call from `activate()` or offline code).
+    pub fn new(
+        mode: SimMode,
+        sample_rate_hz: f64,
+        mut sim: Sim,
+        params: &ParamValues,
+        db: Arc<SoundDb>,
+        store: Arc<SheetStore>,
+        store_generation: u64,
+        meters: Arc<Meters>,
+    ) -> Result<Self, EngineError> {
+        // The sheet follows the parameters: bring it in line before the first frame.
+        if sim.config().size != params.size {
+            sim.apply(Command::Size(params.size));
+        }
+        sim.apply(Command::Material(params.material));
+        sim.apply(Command::Seed(params.seed));
+        sim.apply(Command::Room(params.room));
+        for g in GestureParam::ALL {
+            sim.apply(Command::Gesture {
+                param: g,
+                value: params.gestures[g.index()],
+            });
+        }
+        let frames = FrameClock::new(sample_rate_hz, sim.config().frame_rate_hz);
+        let mut renderer = Renderer::new(sample_rate_hz, db, params.seed);
+        renderer.set_mix(mix_levels(params, 1.0));
+        renderer.set_scene(scene(params));
+        let host = match mode {
+            SimMode::Lockstep => Host::Lockstep(Lockstep {
+                sim: Box::new(sim),
+                out: Box::default(),
+                next_frame: 0,
+                pending: VecDeque::with_capacity(COMMAND_QUEUE_CAPACITY),
+                was_awake: false,
+                frames_since_publish: 0,
+                sheet_generation: store_generation,
+            }),
+            SimMode::Threaded => {
+                let shared = Arc::new(WorkerShared::new(EVENT_QUEUE_CAPACITY));
+                let (input, output) = triple_buffer::triple_buffer(&SimSnapshot::default());
+                let worker = WorkerHandle::spawn(
+                    WorkerState {
+                        sim,
+                        clock: frames,
+                        next_frame: 0,
+                        store_generation,
+                    },
+                    shared.clone(),
+                    input,
+                    store.clone(),
+                    meters.clone(),
+                )?;
+                Host::Threaded(Threaded {
+                    worker,
+                    shared,
+                    snapshots: output,
+                    last_frames: 0,
+                })
+            }
+        };
+        Ok(Self {
+            clock: 0,
+            frames,
+            last: *params,
+            midi_volume: 1.0,
+            renderer,
+            store,
+            store_generation,
+            meters,
+            host,
+        })
+    }
+
+    /// Samples rendered so far.
+    pub fn clock(&self) -> u64 {
+        self.clock
+    }
+
+    /// The frame clock.
+    pub fn frame_clock(&self) -> FrameClock {
+        self.frames
+    }
+
+    /// The simulation mode.
+    pub fn mode(&self) -> SimMode {
+        match self.host {
+            Host::Lockstep(_) => SimMode::Lockstep,
+            Host::Threaded(_) => SimMode::Threaded,
+        }
+    }
+
+    /// The sheet, when it is stepped inline (lockstep mode).
+    pub fn lockstep_sim(&self) -> Option<&Sim> {
+        match &self.host {
+            Host::Lockstep(l) => Some(&l.sim),
+            Host::Threaded(_) => None,
+        }
+    }
+
+    /// The render path (for counters).
+    pub fn renderer(&self) -> &Renderer {
+        &self.renderer
+    }
+
+    /// Clears the render path's voices and noise state (the sheet is kept). Allocation-free.
+    pub fn reset_audio(&mut self) {
+        self.renderer.reset();
+    }
+
+    /// Replaces the sound database; returns the old one to be dropped off the audio thread.
+    pub fn swap_db(&mut self, db: Arc<SoundDb>) -> Arc<SoundDb> {
+        self.renderer.swap_db(db)
+    }
+
+    fn send(&mut self, at_sample: u64, kind: WorkerMsgKind) {
+        match &mut self.host {
+            Host::Lockstep(l) => {
+                if l.pending.len() < l.pending.capacity() {
+                    l.pending.push_back((at_sample, kind));
+                } else {
+                    self.meters.commands_dropped.fetch_add(1, Ordering::Relaxed);
+                }
+            }
+            Host::Threaded(t) => {
+                if t.shared.commands.push(WorkerMsg { at_sample, kind }).is_err() {
+                    self.meters.commands_dropped.fetch_add(1, Ordering::Relaxed);
+                }
+            }
+        }
+    }
+
+    fn command(&mut self, at_sample: u64, cmd: Command) {
+        self.send(at_sample, WorkerMsgKind::Command(cmd));
+    }
+
+    /// Start of a block (or of a sub-block after a parameter change): diffs the parameters.
+    /// Allocation-free.
+    pub fn begin_block(&mut self, p: &ParamValues) {
+        let at = self.clock;
+        let generation = self.store.generation();
+        if generation != self.store_generation {
+            // A project state was loaded: the sheet comes from the store, and its parameters
+            // are the loaded ones (no size/material change must rebuild it).
+            self.store_generation = generation;
+            self.send(at, WorkerMsgKind::RestoreSheet);
+        } else {
+            if p.size != self.last.size {
+                self.command(at, Command::Size(p.size));
+            }
+            if p.material != self.last.material {
+                self.command(at, Command::Material(p.material));
+            }
+            if p.seed != self.last.seed {
+                self.command(at, Command::Seed(p.seed));
+            }
+        }
+        if p.room != self.last.room {
+            self.command(at, Command::Room(p.room));
+        }
+        for g in GestureParam::ALL {
+            let v = p.gestures[g.index()];
+            if v.to_bits() != self.last.gestures[g.index()].to_bits() {
+                self.command(at, Command::Gesture { param: g, value: v });
+            }
+        }
+        if p.room != self.last.room
+            || p.listener_az_deg != self.last.listener_az_deg
+            || p.listener_dist_m != self.last.listener_dist_m
+        {
+            self.renderer.set_scene(scene(p));
+        }
+        if p.mix_crumple_db != self.last.mix_crumple_db
+            || p.mix_friction_db != self.last.mix_friction_db
+            || p.mix_tear_db != self.last.mix_tear_db
+            || p.gain_db != self.last.gain_db
+        {
+            self.renderer.set_mix(mix_levels(p, self.midi_volume));
+        }
+        self.last = *p;
+    }
+
+    /// A MIDI message at `offset` samples into the current block. Allocation-free.
+    pub fn midi(&mut self, input: MidiInput, offset: u32) {
+        let at = self.clock + u64::from(offset);
+        match gesture_map::map(input) {
+            Action::None => {}
+            Action::Sim(cmd) => self.command(at, cmd),
+            Action::Volume(v) => {
+                self.midi_volume = v;
+                self.renderer.set_mix(mix_levels(&self.last, v));
+            }
+            Action::ResetControllers => {
+                for g in GestureParam::ALL {
+                    let value = self.last.gestures[g.index()];
+                    self.command(at, Command::Gesture { param: g, value });
+                }
+                self.midi_volume = 1.0;
+                self.renderer.set_mix(mix_levels(&self.last, 1.0));
+            }
+        }
+    }
+
+    fn deliver(renderer: &mut Renderer, sound: &SoundFrame, meters: &Meters) {
+        renderer.set_frame(sound);
+        for e in sound.crumple() {
+            renderer.trigger(e);
+        }
+        meters
+            .crumple_events
+            .fetch_add(sound.crumple().len() as u64, Ordering::Relaxed);
+    }
+
+    /// Renders one block into `left` and `right` (same length, any length). Allocation-free in
+    /// threaded mode; in lockstep mode only a sheet rebuild (reset, size change, restore) or the
+    /// periodic publish for the saved project allocates, and those are permitted explicitly.
+    pub fn render(&mut self, left: &mut [f32], right: &mut [f32]) {
+        let n = left.len().min(right.len());
+        match &mut self.host {
+            Host::Lockstep(l) => {
+                let mut pos = 0usize;
+                loop {
+                    let end = self.frames.end(l.next_frame);
+                    if end <= self.clock + pos as u64 {
+                        while l.pending.front().is_some_and(|(at, _)| *at < end) {
+                            let Some((_, kind)) = l.pending.pop_front() else {
+                                break;
+                            };
+                            match kind {
+                                WorkerMsgKind::Command(cmd) => {
+                                    let rebuilds = matches!(cmd, Command::Reset | Command::Size(_));
+                                    if rebuilds {
+                                        nice_plug::util::permit_alloc(|| l.sim.apply(cmd));
+                                    } else {
+                                        l.sim.apply(cmd);
+                                    }
+                                }
+                                WorkerMsgKind::RestoreSheet => {
+                                    let store = &self.store;
+                                    let generation = l.sheet_generation;
+                                    l.sheet_generation = nice_plug::util::permit_alloc(|| {
+                                        worker::restore_from_store(&mut l.sim, store, generation)
+                                    });
+                                    l.was_awake = false;
+                                }
+                            }
+                        }
+                        worker::step_frame(&mut l.sim, &mut l.out, &self.meters);
+                        Self::deliver(&mut self.renderer, &l.out.sound, &self.meters);
+                        let awake = !l.out.stats.asleep;
+                        l.frames_since_publish += 1;
+                        if (l.was_awake && !awake)
+                            || (awake && l.frames_since_publish >= PUBLISH_INTERVAL_FRAMES)
+                        {
+                            let store = &self.store;
+                            let generation = l.sheet_generation;
+                            let sim = &l.sim;
+                            nice_plug::util::permit_alloc(|| {
+                                store.try_publish(sim.save(), generation)
+                            });
+                            l.frames_since_publish = 0;
+                        }
+                        l.was_awake = awake;
+                        l.next_frame += 1;
+                        continue;
+                    }
+                    if pos >= n {
+                        break;
+                    }
+                    let seg_end = n.min((end - self.clock) as usize);
+                    self.renderer
+                        .render(&mut left[pos..seg_end], &mut right[pos..seg_end]);
+                    pos = seg_end;
+                }
+            }
+            Host::Threaded(t) => {
+                if t.snapshots.update() {
+                    let snap = t.snapshots.output_buffer();
+                    if snap.frames_stepped != t.last_frames {
+                        t.last_frames = snap.frames_stepped;
+                        self.renderer.set_frame(&snap.sound);
+                    }
+                }
+                while let Some(ev) = t.shared.events.pop() {
+                    match ev.kind {
+                        SimEventKind::Crumple(e) => {
+                            self.renderer.trigger(&e);
+                            self.meters.crumple_events.fetch_add(1, Ordering::Relaxed);
+                        }
+                    }
+                }
+                self.renderer.render(&mut left[..n], &mut right[..n]);
+            }
+        }
+        // Belt and braces: the render path guarantees finite output; never let a NaN out.
+        let mut peak = 0.0f32;
+        for s in left[..n].iter_mut().chain(right[..n].iter_mut()) {
+            if !s.is_finite() {
+                *s = 0.0;
+            }
+            peak = peak.max(s.abs());
+        }
+        self.meters.peak_bits.store(peak.to_bits(), Ordering::Relaxed);
+        self.clock += n as u64;
+        if let Host::Threaded(t) = &self.host {
+            // The worker polls this clock; no syscall (unpark) from the audio thread.
+            t.shared.audio_clock.store(self.clock, Ordering::Release);
+        }
+    }
+
+    /// Stops the engine and returns the sheet and the store generation it is based on.
+    pub fn into_sim(self) -> Option<(Sim, u64)> {
+        match self.host {
+            Host::Lockstep(l) => Some((*l.sim, l.sheet_generation)),
+            Host::Threaded(t) => {
+                let st = t.worker.stop()?;
+                Some((st.sim, st.store_generation))
+            }
+        }
+    }
+}

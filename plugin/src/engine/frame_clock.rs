@@ -1,0 +1,77 @@
+//! # Frame clock: where simulation frames fall on the sample timeline
+//!
+//! The simulation runs at a fixed frame rate (sim-core's `frame_rate_hz`, 200 Hz by default);
+//! audio runs at the host's sample rate. Frame `k` covers the sample span
+//! `[start(k), start(k + 1))` with `start(k) = round(k · fs / f_frame)`. The frame is stepped
+//! once the audio clock reaches the end of its span — its inputs (every command stamped before
+//! that end) are then all known — and its output sounds from that sample on. Both the offline
+//! lockstep path and the real-time worker follow this rule, which is why a render does not depend
+//! on how the host splits blocks.
+
+/// Maps frame indices to sample positions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameClock {
+    samples_per_frame: f64,
+}
+
+impl FrameClock {
+    /// A clock for a sample rate and a frame rate (both sanitized: a rate that is not finite and
+    /// positive falls back to 48 kHz / 200 Hz).
+    pub fn new(sample_rate_hz: f64, frame_rate_hz: f64) -> Self {
+        let fs = if sample_rate_hz.is_finite() && sample_rate_hz > 0.0 {
+            sample_rate_hz
+        } else {
+            48_000.0
+        };
+        let ff = if frame_rate_hz.is_finite() && frame_rate_hz > 0.0 {
+            frame_rate_hz
+        } else {
+            200.0
+        };
+        Self {
+            samples_per_frame: (fs / ff).max(1.0),
+        }
+    }
+
+    /// First sample of frame `k`.
+    pub fn start(&self, k: u64) -> u64 {
+        (k as f64 * self.samples_per_frame).round() as u64
+    }
+
+    /// One past the last sample of frame `k`: when it is stepped.
+    pub fn end(&self, k: u64) -> u64 {
+        self.start(k + 1)
+    }
+
+    /// Samples per frame (fractional).
+    pub fn samples_per_frame(&self) -> f64 {
+        self.samples_per_frame
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spans_tile_the_timeline() {
+        for fs in [8_000.0, 44_100.0, 48_000.0, 88_200.0, 96_000.0, 192_000.0, 44_100.5] {
+            let c = FrameClock::new(fs, 200.0);
+            let mut total = 0;
+            for k in 0..10_000 {
+                let (a, b) = (c.start(k), c.end(k));
+                assert!(b > a, "frame {k} at {fs} Hz is empty");
+                assert_eq!(a, total);
+                total = b;
+            }
+            let expect = (10_000.0 * fs / 200.0_f64).round() as u64;
+            assert_eq!(total, expect);
+        }
+    }
+
+    #[test]
+    fn bad_rates_fall_back() {
+        let c = FrameClock::new(f64::NAN, -1.0);
+        assert_eq!(c.samples_per_frame(), 240.0);
+    }
+}

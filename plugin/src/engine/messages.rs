@@ -1,0 +1,66 @@
+//! # Messages between the audio thread and the simulation worker
+//!
+//! Everything crossing threads is `Copy`, heap-free and fixed-size:
+//! - audio → worker: [`WorkerMsg`] through a bounded lock-free queue (`crossbeam_queue::ArrayQueue`);
+//! - worker → audio, continuous state: [`SimSnapshot`] through a `triple_buffer` (latest value
+//!   wins; intermediate frames may be skipped, which is fine for continuous state);
+//! - worker → audio, discrete events: [`SimEvent`] through a second bounded queue (a triple buffer
+//!   would drop them).
+//!
+//! A full queue never blocks: the sender counts the loss.
+
+use sim_core::sim::FrameStats;
+use sim_core::sound_input::{CrumpleEvent, SoundFrame};
+use sim_core::Command;
+
+/// Capacity of the audio → worker command queue.
+pub const COMMAND_QUEUE_CAPACITY: usize = 4096;
+/// Capacity of the worker → audio event queue.
+pub const EVENT_QUEUE_CAPACITY: usize = 1024;
+
+/// What the audio thread asks of the worker.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WorkerMsgKind {
+    /// A simulation command.
+    Command(Command),
+    /// A project state was loaded: rebuild the sheet from the sheet store.
+    RestoreSheet,
+}
+
+/// A timestamped message for the worker.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorkerMsg {
+    /// Audio sample position the message belongs to.
+    pub at_sample: u64,
+    /// The message.
+    pub kind: WorkerMsgKind,
+}
+
+/// The continuous state of one stepped frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SimSnapshot {
+    /// Frames stepped so far (0 = none yet).
+    pub frames_stepped: u64,
+    /// Sample position at which this frame's output starts to sound.
+    pub at_sample: u64,
+    /// Sound input (its crumple events travel as [`SimEvent`]s instead).
+    pub sound: SoundFrame,
+    /// Frame statistics.
+    pub stats: FrameStats,
+}
+
+/// A discrete event of a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SimEventKind {
+    /// A crumpling sound to start.
+    Crumple(CrumpleEvent),
+}
+
+/// A timestamped discrete event.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimEvent {
+    /// Sample position of the frame that produced it.
+    pub at_sample: u64,
+    /// The event.
+    pub kind: SimEventKind,
+}

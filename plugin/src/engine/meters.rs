@@ -1,0 +1,67 @@
+//! # Meters: engine figures for the editor and the renderer's report
+//!
+//! Plain atomics written by whoever runs the simulation (worker or audio thread) and by the
+//! audio thread, read by the editor. Relaxed ordering: these are displays, not synchronisation.
+
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
+
+/// Engine meters.
+#[derive(Debug, Default)]
+pub struct Meters {
+    /// Frames stepped.
+    pub frames_stepped: AtomicU64,
+    /// Frames skipped because the simulation fell behind real time.
+    pub frames_skipped: AtomicU64,
+    /// Frames in which the sheet slept.
+    pub frames_asleep: AtomicU64,
+    /// Last frame's step time, nanoseconds.
+    pub last_step_ns: AtomicU64,
+    /// Sum of all step times, nanoseconds.
+    pub total_step_ns: AtomicU64,
+    /// Longest step time, nanoseconds.
+    pub max_step_ns: AtomicU64,
+    /// Commands lost because the command queue was full.
+    pub commands_dropped: AtomicU64,
+    /// Events lost because the event queue was full.
+    pub events_dropped: AtomicU64,
+    /// Crumple events delivered to the render path.
+    pub crumple_events: AtomicU64,
+    /// Interior singular vertices of the current sheet.
+    pub num_singular: AtomicU32,
+    /// Mean edge compression of the current sheet, % (f32 bits).
+    pub c_mean_pct_bits: AtomicU32,
+    /// Output peak of the last block (f32 bits).
+    pub peak_bits: AtomicU32,
+    /// Is the worker thread running?
+    pub worker_running: AtomicBool,
+    /// Worker threads started since the plugin was created.
+    pub workers_started: AtomicU64,
+    /// Worker threads joined since the plugin was created.
+    pub workers_joined: AtomicU64,
+}
+
+impl Meters {
+    /// Records one stepped frame.
+    pub fn record_step(&self, step_ns: u64, asleep: bool, num_singular: u32, c_mean_pct: f32) {
+        self.frames_stepped.fetch_add(1, Ordering::Relaxed);
+        if asleep {
+            self.frames_asleep.fetch_add(1, Ordering::Relaxed);
+        }
+        self.last_step_ns.store(step_ns, Ordering::Relaxed);
+        self.total_step_ns.fetch_add(step_ns, Ordering::Relaxed);
+        self.max_step_ns.fetch_max(step_ns, Ordering::Relaxed);
+        self.num_singular.store(num_singular, Ordering::Relaxed);
+        self.c_mean_pct_bits
+            .store(c_mean_pct.to_bits(), Ordering::Relaxed);
+    }
+
+    /// Mean edge compression of the current sheet, %.
+    pub fn c_mean_pct(&self) -> f32 {
+        f32::from_bits(self.c_mean_pct_bits.load(Ordering::Relaxed))
+    }
+
+    /// Output peak of the last block.
+    pub fn peak(&self) -> f32 {
+        f32::from_bits(self.peak_bits.load(Ordering::Relaxed))
+    }
+}

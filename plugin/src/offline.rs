@@ -1,0 +1,448 @@
+//! # The offline renderer (`papier-render`)
+//!
+//! Renders Papier without a host, with the same engine code as the plugin's `process()`: the
+//! renderer plays the part of a host with sample-accurate automation. It feeds the engine
+//! blocks of `--block` samples, splits a block wherever a parameter changes (as nice-plug does
+//! for the plugin), calls [`Engine::begin_block`] at each (sub-)block start and hands over MIDI
+//! messages with their offsets. The sheet is stepped in lockstep with the audio
+//! ([`SimMode::Lockstep`]), so two renders of the same input give the same bytes, whatever the
+//! block size.
+//!
+//! Inputs ([`cli`]): Standard MIDI Files ([`midi_file`]), TOML scripts and built-in scenes
+//! ([`sim_core::script`]), merged on one timeline ([`timeline`]). Output: a stereo WAV (32-bit
+//! float) via `hound`, and optionally the sheet as a sequence of Wavefront OBJ files.
+
+pub mod cli;
+pub mod midi_file;
+pub mod timeline;
+
+use std::io::{BufWriter, IsTerminal};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+use sim_core::script::Script;
+use sim_core::{MeshSnapshot, Sim};
+use sounddb::SoundDb;
+use thiserror::Error;
+
+use self::cli::{InputSpec, RenderOptions};
+use self::midi_file::MidiFile;
+use self::timeline::{HostEvent, Timeline};
+use crate::engine::{Engine, FrameClock, Meters, ParamValues, SimMode};
+use crate::state::SheetStore;
+
+/// Longest render accepted, seconds (one hour).
+pub const MAX_RENDER_S: f64 = 3600.0;
+
+/// Why a render failed. Every message is one line.
+#[derive(Debug, Error)]
+pub enum OfflineError {
+    /// Bad command line.
+    #[error("{0}")]
+    Usage(String),
+    /// An input cannot be used.
+    #[error("{0}")]
+    Input(String),
+    /// Output cannot be written.
+    #[error("{0}")]
+    Output(String),
+    /// The engine could not start.
+    #[error("{0}")]
+    Engine(String),
+}
+
+impl OfflineError {
+    /// Process exit code: 2 for usage errors, 1 otherwise.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            OfflineError::Usage(_) => 2,
+            _ => 1,
+        }
+    }
+}
+
+/// What a render did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RenderReport {
+    /// Output file.
+    pub out: PathBuf,
+    /// Rendered length, seconds.
+    pub length_s: f64,
+    /// Sample rate, Hz.
+    pub sample_rate_hz: u32,
+    /// Simulation frames stepped.
+    pub frames: u64,
+    /// Frames in which the sheet slept.
+    pub frames_asleep: u64,
+    /// Mean step time, ms.
+    pub mean_step_ms: f64,
+    /// Longest step time, ms.
+    pub max_step_ms: f64,
+    /// Crumple events delivered to the sound.
+    pub crumple_events: u64,
+    /// Interior singular vertices at the end.
+    pub num_singular: u32,
+    /// Peak sample, linear.
+    pub peak: f32,
+    /// RMS over both channels, linear.
+    pub rms: f32,
+    /// OBJ frames written.
+    pub obj_frames: u64,
+    /// Wall-clock time, seconds.
+    pub wall_s: f64,
+}
+
+/// The built-in scene names.
+pub fn scene_names() -> Vec<&'static str> {
+    // The scenario library arrives with sim-core's physics work.
+    Vec::new()
+}
+
+fn load_scene(name: &str) -> Result<Script, OfflineError> {
+    None.ok_or_else(|| {
+        OfflineError::Input(format!(
+            "unknown scene {name:?}; available: {}",
+            scene_names().join(", ")
+        ))
+    })
+}
+
+fn load_db(path: Option<&Path>) -> Result<Arc<SoundDb>, OfflineError> {
+    match path {
+        None => Ok(Arc::new(SoundDb::empty())),
+        Some(p) => Err(OfflineError::Input(format!(
+            "--db {}: user sound databases are not supported by this build yet",
+            p.display()
+        ))),
+    }
+}
+
+fn write_obj(dir: &Path, index: u64, sim: &Sim, mesh: &mut MeshSnapshot) -> Result<(), OfflineError> {
+    sim.write_mesh(mesh);
+    let path = dir.join(format!("frame_{index:05}.obj"));
+    let file = std::fs::File::create(&path)
+        .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", path.display())))?;
+    let mut w = BufWriter::new(file);
+    mesh.write_obj(&mut w)
+        .and_then(|_| std::io::Write::flush(&mut w))
+        .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", path.display())))
+}
+
+/// Renders according to the options.
+pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
+    let started = Instant::now();
+    let sr = f64::from(opts.sample_rate_hz);
+
+    // Parameters: defaults, then the scripts' [set] tables, then --seed and --set.
+    let mut params = ParamValues::default();
+    let frames = FrameClock::new(sr, sim_core::sim::DEFAULT_FRAME_RATE_HZ);
+    let mut tl = Timeline::default();
+    for input in &opts.inputs {
+        match input {
+            InputSpec::Midi(p) => {
+                let f = MidiFile::from_file(p)
+                    .map_err(|e| OfflineError::Input(format!("--midi {}: {e}", p.display())))?;
+                tl.add_midi(&f, sr);
+            }
+            InputSpec::Script(p) => {
+                let s = Script::from_file(p)
+                    .map_err(|e| OfflineError::Input(format!("--script {}: {e}", p.display())))?;
+                let mut scratch = params;
+                tl.add_script(&p.display().to_string(), &s, sr, frames, &mut scratch)
+                    .map_err(OfflineError::Input)?;
+            }
+            InputSpec::Scene(name) => {
+                let s = load_scene(name)?;
+                let mut scratch = params;
+                tl.add_script(&format!("scene {name}"), &s, sr, frames, &mut scratch)
+                    .map_err(OfflineError::Input)?;
+            }
+        }
+    }
+    tl.finish();
+    for (id, v) in &tl.initial {
+        params
+            .set(id, v)
+            .map_err(|e| OfflineError::Input(e.to_string()))?;
+    }
+    if let Some(seed) = opts.seed {
+        params.seed = seed;
+    }
+    for s in &opts.sets {
+        params
+            .set_from_arg(s)
+            .map_err(|e| OfflineError::Usage(format!("--set {s}: {e}")))?;
+    }
+    if !(tl.length_s.is_finite() && tl.length_s > 0.0 && tl.length_s <= MAX_RENDER_S) {
+        return Err(OfflineError::Input(format!(
+            "the inputs last {:.3} s; a render must last more than 0 and at most {MAX_RENDER_S} s",
+            tl.length_s
+        )));
+    }
+
+    let db = load_db(opts.db.as_deref())?;
+    if let Some(dir) = &opts.obj_dir {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            OfflineError::Output(format!("cannot create --obj-dir {}: {e}", dir.display()))
+        })?;
+    }
+    if let Some(parent) = opts.out.parent()
+        && !parent.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(parent).map_err(|e| {
+            OfflineError::Output(format!("cannot create {}: {e}", parent.display()))
+        })?;
+    }
+    let spec = hound::WavSpec {
+        channels: 2,
+        sample_rate: opts.sample_rate_hz,
+        bits_per_sample: 32,
+        sample_format: hound::SampleFormat::Float,
+    };
+    let mut wav = hound::WavWriter::create(&opts.out, spec).map_err(|e| {
+        OfflineError::Output(format!("cannot write {}: {e}", opts.out.display()))
+    })?;
+
+    let meters = Arc::new(Meters::default());
+    let sim = Sim::new(crate::sim_config(&params));
+    let mut engine = Engine::new(
+        SimMode::Lockstep,
+        sr,
+        sim,
+        &params,
+        db,
+        Arc::new(SheetStore::default()),
+        0,
+        meters.clone(),
+    )
+    .map_err(|e| OfflineError::Engine(e.to_string()))?;
+
+    let total = (tl.length_s * sr).round() as u64;
+    let progress = if opts.quiet || !std::io::stderr().is_terminal() {
+        indicatif::ProgressBar::hidden()
+    } else {
+        let pb = indicatif::ProgressBar::new(total);
+        pb.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} (eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        pb
+    };
+
+    let mut left = vec![0.0f32; opts.block];
+    let mut right = vec![0.0f32; opts.block];
+    let mut mesh = {
+        let probe = Sim::new(crate::sim_config(&params));
+        let (v, t) = probe.mesh_capacity();
+        MeshSnapshot::with_capacity(v * 2, t * 2)
+    };
+    let obj_at = |i: u64| (i as f64 * sr / opts.obj_fps).round() as u64;
+    let mut next_obj = 0u64;
+    let mut next_event = 0usize;
+    let mut pos = 0u64;
+    let mut sum_sq = 0.0f64;
+    let mut peak = 0.0f32;
+    let events = &tl.events;
+
+    while pos < total {
+        let block_end = (pos + opts.block as u64).min(total);
+        let mut sub = pos;
+        while sub < block_end {
+            // Parameter changes at this sample start a new sub-block.
+            let mut changed = sub == pos;
+            while next_event < events.len() && events[next_event].0 <= sub {
+                if let HostEvent::Param { id, value } = &events[next_event].1 {
+                    if events[next_event].0 == sub || sub == 0 {
+                        params
+                            .set(id, value)
+                            .map_err(|e| OfflineError::Input(e.to_string()))?;
+                        changed = true;
+                    }
+                    next_event += 1;
+                } else {
+                    break;
+                }
+            }
+            if changed {
+                engine.begin_block(&params);
+            }
+            // The sub-block ends at the next parameter change or OBJ frame.
+            let mut sub_end = block_end;
+            let mut k = next_event;
+            while k < events.len() && events[k].0 < block_end {
+                if matches!(events[k].1, HostEvent::Param { .. }) && events[k].0 > sub {
+                    sub_end = sub_end.min(events[k].0);
+                    break;
+                }
+                k += 1;
+            }
+            if opts.obj_dir.is_some() && obj_at(next_obj) > sub {
+                sub_end = sub_end.min(obj_at(next_obj));
+            }
+            // MIDI inside [sub, sub_end), in order.
+            while next_event < events.len() && events[next_event].0 < sub_end {
+                match &events[next_event].1 {
+                    HostEvent::Midi(m) => {
+                        engine.midi(*m, (events[next_event].0 - sub) as u32);
+                        next_event += 1;
+                    }
+                    HostEvent::Param { .. } => break,
+                }
+            }
+            if let Some(dir) = &opts.obj_dir {
+                while obj_at(next_obj) <= sub {
+                    if let Some(sim) = engine.lockstep_sim() {
+                        write_obj(dir, next_obj, sim, &mut mesh)?;
+                    }
+                    next_obj += 1;
+                }
+            }
+            let n = (sub_end - sub) as usize;
+            let off = (sub - pos) as usize;
+            engine.render(&mut left[off..off + n], &mut right[off..off + n]);
+            sub = sub_end;
+        }
+        let n = (block_end - pos) as usize;
+        for i in 0..n {
+            let (l, r) = (left[i], right[i]);
+            sum_sq += f64::from(l) * f64::from(l) + f64::from(r) * f64::from(r);
+            peak = peak.max(l.abs()).max(r.abs());
+            wav.write_sample(l)
+                .and_then(|_| wav.write_sample(r))
+                .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
+        }
+        pos = block_end;
+        progress.set_position(pos);
+    }
+    if let Some(dir) = &opts.obj_dir {
+        while obj_at(next_obj) <= total {
+            if let Some(sim) = engine.lockstep_sim() {
+                write_obj(dir, next_obj, sim, &mut mesh)?;
+            }
+            next_obj += 1;
+        }
+    }
+    wav.finalize()
+        .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
+    progress.finish_and_clear();
+
+    let frames_stepped = meters.frames_stepped.load(Ordering::Relaxed);
+    let num_singular = meters.num_singular.load(Ordering::Relaxed);
+    Ok(RenderReport {
+        out: opts.out.clone(),
+        length_s: total as f64 / sr,
+        sample_rate_hz: opts.sample_rate_hz,
+        frames: frames_stepped,
+        frames_asleep: meters.frames_asleep.load(Ordering::Relaxed),
+        mean_step_ms: if frames_stepped > 0 {
+            meters.total_step_ns.load(Ordering::Relaxed) as f64 * 1e-6 / frames_stepped as f64
+        } else {
+            0.0
+        },
+        max_step_ms: meters.max_step_ns.load(Ordering::Relaxed) as f64 * 1e-6,
+        crumple_events: meters.crumple_events.load(Ordering::Relaxed),
+        num_singular,
+        peak,
+        rms: if total > 0 {
+            (sum_sq / (2 * total) as f64).sqrt() as f32
+        } else {
+            0.0
+        },
+        obj_frames: if opts.obj_dir.is_some() { next_obj } else { 0 },
+        wall_s: started.elapsed().as_secs_f64(),
+    })
+}
+
+fn db_string(x: f32) -> String {
+    if x > 0.0 {
+        format!("{:.1} dBFS", 20.0 * x.log10())
+    } else {
+        "silent".into()
+    }
+}
+
+impl std::fmt::Display for RenderReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "papier-render: {:.2} s at {} Hz -> {} (stereo, 32-bit float)",
+            self.length_s,
+            self.sample_rate_hz,
+            self.out.display()
+        )?;
+        writeln!(
+            f,
+            "  sim:   {} frames ({:.0} % asleep), step mean {:.3} ms, max {:.3} ms, {} singular points",
+            self.frames,
+            if self.frames > 0 {
+                100.0 * self.frames_asleep as f64 / self.frames as f64
+            } else {
+                0.0
+            },
+            self.mean_step_ms,
+            self.max_step_ms,
+            self.num_singular
+        )?;
+        writeln!(
+            f,
+            "  audio: peak {}, RMS {}, {} crumple events",
+            db_string(self.peak),
+            db_string(self.rms),
+            self.crumple_events
+        )?;
+        if self.obj_frames > 0 {
+            writeln!(f, "  obj:   {} frames", self.obj_frames)?;
+        }
+        write!(
+            f,
+            "  took {:.2} s ({:.1}x real time)",
+            self.wall_s,
+            if self.wall_s > 0.0 {
+                self.length_s / self.wall_s
+            } else {
+                0.0
+            }
+        )
+    }
+}
+
+/// `papier-render`'s entry point: parses the arguments (without the program name), renders,
+/// prints the report, and returns the exit code.
+pub fn main_with_args(args: &[String]) -> i32 {
+    let cli = match cli::parse(args) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("papier-render: error: {e}");
+            return 2;
+        }
+    };
+    match cli {
+        cli::Cli::Help => {
+            println!("{}", cli::USAGE);
+            0
+        }
+        cli::Cli::ListScenes => {
+            for n in scene_names() {
+                println!("{n}");
+            }
+            0
+        }
+        cli::Cli::Render(opts) => match render(&opts) {
+            Ok(report) => {
+                if !opts.quiet {
+                    println!("{report}");
+                }
+                0
+            }
+            Err(e) => {
+                eprintln!("papier-render: error: {e}");
+                e.exit_code()
+            }
+        },
+    }
+}

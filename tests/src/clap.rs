@@ -1,0 +1,338 @@
+//! A small CLAP host on `clack-host`, loading the bundled `Papier.clap` the way a DAW does:
+//! scan the factory, instantiate, read the parameter list, set the render mode, activate,
+//! process on a separate audio thread with events, deactivate, save and load state.
+
+use std::ffi::CString;
+use std::path::Path;
+
+use clack_extensions::params::{ParamInfoBuffer, PluginParams};
+use clack_extensions::render::{PluginRender, RenderMode};
+use clack_extensions::state::PluginState;
+use clack_host::events::event_types::{MidiEvent, NoteOffEvent, NoteOnEvent, ParamValueEvent};
+use clack_host::prelude::*;
+
+/// Host callbacks: nothing to do, the tests drive everything.
+pub struct TestShared;
+
+impl<'a> SharedHandler<'a> for TestShared {
+    fn request_restart(&self) {}
+    fn request_process(&self) {}
+    fn request_callback(&self) {}
+}
+
+/// The test host's handler types.
+pub struct TestHost;
+
+impl HostHandlers for TestHost {
+    type Shared<'a> = TestShared;
+    type MainThread<'a> = ();
+    type AudioProcessor<'a> = ();
+}
+
+/// A parameter as the host sees it.
+#[derive(Clone, Debug)]
+pub struct ParamDesc {
+    /// CLAP id.
+    pub id: ClapId,
+    /// Display name.
+    pub name: String,
+    /// Module (group) path.
+    pub module: String,
+    /// Minimum value (nice-plug exposes normalized 0–1).
+    pub min: f64,
+    /// Maximum value.
+    pub max: f64,
+    /// Default value.
+    pub default: f64,
+}
+
+/// A host-side event at an absolute sample position.
+#[derive(Clone, Copy, Debug)]
+pub enum HostEvent {
+    /// Raw 3-byte MIDI.
+    Midi {
+        /// Sample position.
+        at: u64,
+        /// Status and data bytes.
+        data: [u8; 3],
+    },
+    /// A CLAP note on (key, velocity 0–1).
+    NoteOn {
+        /// Sample position.
+        at: u64,
+        /// Key.
+        key: u8,
+        /// Velocity.
+        velocity: f64,
+    },
+    /// A CLAP note off; `key` −1 = wildcard.
+    NoteOff {
+        /// Sample position.
+        at: u64,
+        /// Key, or −1.
+        key: i16,
+    },
+    /// A parameter change (normalized value).
+    Param {
+        /// Sample position.
+        at: u64,
+        /// Parameter id.
+        id: ClapId,
+        /// Normalized value.
+        value: f64,
+    },
+}
+
+impl HostEvent {
+    /// Sample position.
+    pub fn at(&self) -> u64 {
+        match *self {
+            HostEvent::Midi { at, .. }
+            | HostEvent::NoteOn { at, .. }
+            | HostEvent::NoteOff { at, .. }
+            | HostEvent::Param { at, .. } => at,
+        }
+    }
+}
+
+/// A loaded plugin bundle.
+pub struct Bundle {
+    entry: PluginEntry,
+    id: CString,
+    host_info: HostInfo,
+}
+
+impl Bundle {
+    /// Loads a `.clap` file and finds its (only) plugin.
+    pub fn load(path: &Path) -> Result<Self, String> {
+        let host_info = HostInfo::new("papier-tests", "Papier", "https://papier.invalid", "0.1")
+            .map_err(|e| e.to_string())?;
+        // SAFETY: loading a plugin library runs its code; the plugin under test is ours.
+        let entry = unsafe { PluginEntry::load(path) }.map_err(|e| format!("{e:?}"))?;
+        let factory = entry
+            .get_plugin_factory()
+            .ok_or("the bundle has no plugin factory")?;
+        let d = factory
+            .plugin_descriptors()
+            .next()
+            .ok_or("the bundle has no plugin")?;
+        let id = CString::from(d.id().ok_or("descriptor without id")?);
+        Ok(Self {
+            entry,
+            id,
+            host_info,
+        })
+    }
+
+    /// The plugin's id and name, and its feature list.
+    pub fn descriptor(&self) -> (String, String, Vec<String>) {
+        let factory = self.entry.get_plugin_factory().expect("factory");
+        let d = factory.plugin_descriptors().next().expect("descriptor");
+        (
+            d.id().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+            d.name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+            d.features()
+                .map(|f| f.to_string_lossy().into_owned())
+                .collect(),
+        )
+    }
+
+    /// A new plugin instance.
+    pub fn instance(&self) -> Result<Instance, String> {
+        let inst = PluginInstance::<TestHost>::new(
+            |_| TestShared,
+            |_| (),
+            &self.entry,
+            &self.id,
+            &self.host_info,
+        )
+        .map_err(|e| format!("{e:?}"))?;
+        let mut i = Instance { inst, params: Vec::new() };
+        i.params = i.read_params();
+        Ok(i)
+    }
+}
+
+/// One plugin instance.
+pub struct Instance {
+    inst: PluginInstance<TestHost>,
+    /// The parameter list.
+    pub params: Vec<ParamDesc>,
+}
+
+impl Instance {
+    fn read_params(&mut self) -> Vec<ParamDesc> {
+        let mut out = Vec::new();
+        let mut h = self.inst.plugin_handle();
+        let Some(ext) = h.get_extension::<PluginParams>() else {
+            return out;
+        };
+        for i in 0..ext.count(&h) {
+            let mut buf = ParamInfoBuffer::new();
+            if let Some(info) = ext.get_info(&mut h, i, &mut buf) {
+                out.push(ParamDesc {
+                    id: info.id,
+                    name: String::from_utf8_lossy(info.name).into_owned(),
+                    module: String::from_utf8_lossy(info.module).into_owned(),
+                    min: info.min_value,
+                    max: info.max_value,
+                    default: info.default_value,
+                });
+            }
+        }
+        out
+    }
+
+    /// The CLAP id of a parameter by display name.
+    pub fn param(&self, name: &str) -> ClapId {
+        self.params
+            .iter()
+            .find(|p| p.name == name)
+            .unwrap_or_else(|| panic!("no parameter named {name:?}"))
+            .id
+    }
+
+    /// Current value of a parameter (main thread).
+    pub fn param_value(&mut self, id: ClapId) -> Option<f64> {
+        let h = self.inst.plugin_handle();
+        let ext = h.get_extension::<PluginParams>()?;
+        ext.get_value(&h, id)
+    }
+
+    /// Sets the render mode (offline or real time).
+    pub fn set_offline(&mut self, offline: bool) -> Result<(), String> {
+        let h = self.inst.plugin_handle();
+        let ext = h
+            .get_extension::<PluginRender>()
+            .ok_or("no render extension")?;
+        ext.set(
+            &h,
+            if offline {
+                RenderMode::Offline
+            } else {
+                RenderMode::Realtime
+            },
+        )
+        .map_err(|e| format!("{e:?}"))
+    }
+
+    /// Saves the state.
+    pub fn save_state(&mut self) -> Result<Vec<u8>, String> {
+        let h = self.inst.plugin_handle();
+        let ext = h.get_extension::<PluginState>().ok_or("no state extension")?;
+        let mut out = Vec::new();
+        ext.save(&h, &mut out).map_err(|e| e.to_string())?;
+        Ok(out)
+    }
+
+    /// Loads a state.
+    pub fn load_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+        let h = self.inst.plugin_handle();
+        let ext = h.get_extension::<PluginState>().ok_or("no state extension")?;
+        let mut r = std::io::Cursor::new(bytes);
+        ext.load(&h, &mut r).map_err(|e| e.to_string())
+    }
+
+    /// Runs pending main-thread callbacks (nice-plug posts GUI/param rescans there).
+    pub fn idle(&mut self) {
+        self.inst.call_on_main_thread_callback();
+    }
+
+    /// Activates at `sample_rate`, processes `total` samples in blocks of `block` (the last may be
+    /// shorter) with `events` on an audio thread, deactivates, and returns the stereo output.
+    /// `block_sizes`, if given, overrides `block` with a repeating pattern of sizes (each ≤ max).
+    pub fn render(
+        &mut self,
+        sample_rate: f64,
+        max_block: u32,
+        block_sizes: &[u32],
+        total: u64,
+        events: &[HostEvent],
+    ) -> Result<(Vec<f32>, Vec<f32>), String> {
+        let cfg = PluginAudioConfiguration {
+            sample_rate,
+            min_frames_count: 1,
+            max_frames_count: max_block,
+        };
+        let stopped = self
+            .inst
+            .activate(|_, _| (), cfg)
+            .map_err(|e| format!("activate: {e:?}"))?;
+        let mut sorted: Vec<HostEvent> = events.to_vec();
+        sorted.sort_by_key(|e| e.at());
+        let sizes: Vec<u32> = if block_sizes.is_empty() {
+            vec![max_block]
+        } else {
+            block_sizes.iter().map(|b| (*b).clamp(1, max_block)).collect()
+        };
+        let result = std::thread::scope(|s| {
+            s.spawn(move || -> Result<_, String> {
+                let mut proc = stopped
+                    .start_processing()
+                    .map_err(|e| format!("start_processing: {e:?}"))?;
+                let mut left = Vec::with_capacity(total as usize);
+                let mut right = Vec::with_capacity(total as usize);
+                let mut l = vec![0.0f32; max_block as usize];
+                let mut r = vec![0.0f32; max_block as usize];
+                let mut ports = AudioPorts::with_capacity(2, 1);
+                let mut pos = 0u64;
+                let mut next = 0usize;
+                let mut k = 0usize;
+                while pos < total {
+                    let n = u64::from(sizes[k % sizes.len()]).min(total - pos);
+                    k += 1;
+                    let mut ev = EventBuffer::new();
+                    while next < sorted.len() && sorted[next].at() < pos + n {
+                        let t = (sorted[next].at().max(pos) - pos) as u32;
+                        match sorted[next] {
+                            HostEvent::Midi { data, .. } => ev.push(&MidiEvent::new(t, 0, data)),
+                            HostEvent::NoteOn { key, velocity, .. } => ev.push(&NoteOnEvent::new(
+                                t,
+                                Pckn::from_raw(0, 0, i16::from(key), -1),
+                                velocity,
+                            )),
+                            HostEvent::NoteOff { key, .. } => ev.push(&NoteOffEvent::new(
+                                t,
+                                Pckn::from_raw(0, 0, key, -1),
+                                0.0,
+                            )),
+                            HostEvent::Param { id, value, .. } => {
+                                ev.push(&ParamValueEvent::new(t, id, Pckn::match_all(), value))
+                            }
+                        }
+                        next += 1;
+                    }
+                    let mut out_ev = EventBuffer::new();
+                    let nn = n as usize;
+                    {
+                        let mut outputs = ports.with_output_buffers([AudioPortBuffer {
+                            latency: 0,
+                            channels: AudioPortBufferType::f32_output_only(
+                                [&mut l[..nn], &mut r[..nn]].into_iter(),
+                            ),
+                        }]);
+                        proc.process(
+                            &InputAudioBuffers::empty(),
+                            &mut outputs,
+                            &ev.as_input(),
+                            &mut out_ev.as_output(),
+                            Some(pos),
+                            None,
+                        )
+                        .map_err(|e| format!("process: {e:?}"))?;
+                    }
+                    left.extend_from_slice(&l[..nn]);
+                    right.extend_from_slice(&r[..nn]);
+                    pos += n;
+                }
+                Ok((proc.stop_processing(), left, right))
+            })
+            .join()
+            .map_err(|_| "audio thread panicked".to_string())?
+        });
+        let (stopped, left, right) = result?;
+        self.inst.deactivate(stopped);
+        self.idle();
+        Ok((left, right))
+    }
+}
