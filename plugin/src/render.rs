@@ -367,7 +367,7 @@ impl Renderer {
             &self.empty
         };
         self.friction
-            .set_sources(frame.friction(), db, &mut self.counters);
+            .set_sources(frame.friction(), db, self.opts.merge, &mut self.counters);
         self.tear.set_speed(frame.tear.speed_m_s, ramp);
         self.tear_tip = frame.tear.tip_m;
         self.update_tear_gains();

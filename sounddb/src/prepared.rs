@@ -24,9 +24,11 @@
 //! ## Friction frame length at other rates
 //!
 //! The seeds use M = 2048 samples (≈ 46 ms) with hop 1024 at 44.1 kHz (T 1903, T 1830). At other
-//! rates we keep the frame near 46 ms with a power of two:
-//! `M = 2^round(log2(fs · 2048 / 44100))`, clamped to [256, 16384]: 8 kHz → 512 (64 ms),
-//! 44.1/48 kHz → 2048 (46/43 ms), 88.2/96 kHz → 4096, 176.4/192 kHz → 8192. The hop is M/2.
+//! rates we keep the frame at 46.4 ms ± 2 % — so the bin spacing stays 21.5 Hz and the friction
+//! noise has the same spectral resolution at every rate — with the even length closest to
+//! fs · 2048 / 44100 whose only prime factors are 2, 3, 5, 7 (mixed-radix FFTs stay fast):
+//! 8 kHz → 378 (47.3 ms; hop 189), 44.1 kHz → 2048, 48 kHz → 2240 (46.7 ms), 88.2 kHz → 4096,
+//! 96 kHz → 4480, 192 kHz → 8960 (46.7 ms). The hop is M/2 (≈ 23 ms).
 
 use crate::cell::{Cell, CellIndex};
 use crate::database::{Database, DbInfo};
@@ -36,15 +38,35 @@ use crate::{DbError, Warning};
 /// Zeros stored before and after each prepared unit.
 pub const UNIT_PAD: usize = 4;
 
-/// Friction iFFT frame length M for a sample rate (see the module docs).
+/// Friction iFFT frame length M for a sample rate (see the module docs): the even, 7-smooth
+/// (factors 2, 3, 5, 7 only — fast mixed-radix FFTs) length closest to fs · 2048 / 44100.
 pub fn friction_frame_len(sample_rate_hz: f64) -> usize {
     let rate = if sample_rate_hz.is_finite() && sample_rate_hz > 0.0 {
         sample_rate_hz
     } else {
         44_100.0
     };
-    let exp = (rate * 2048.0 / 44_100.0).log2().round().clamp(8.0, 14.0);
-    1usize << (exp as u32)
+    let target = (rate * 2048.0 / 44_100.0).clamp(256.0, 16_384.0);
+    let smooth = |mut n: usize| {
+        for p in [2, 3, 5, 7] {
+            while n % p == 0 {
+                n /= p;
+            }
+        }
+        n == 1
+    };
+    let mut best = 2048usize;
+    let mut best_err = f64::INFINITY;
+    let lo = (target * 0.9) as usize & !1;
+    let hi = (target * 1.1) as usize + 2;
+    for n in (lo.max(2)..=hi).step_by(2) {
+        let err = (n as f64 / target).ln().abs();
+        if smooth(n) && err < best_err {
+            best = n;
+            best_err = err;
+        }
+    }
+    best
 }
 
 /// Index of a cell in a prepared database (crumple or friction list).
@@ -359,17 +381,24 @@ mod tests {
     #[test]
     fn frame_lengths_stay_near_46_ms() {
         for (rate, m) in [
-            (8_000.0, 512),
             (22_050.0, 1024),
             (44_100.0, 2048),
-            (48_000.0, 2048),
+            (48_000.0, 2240),
             (88_200.0, 4096),
-            (96_000.0, 4096),
-            (192_000.0, 8192),
+            (96_000.0, 4480),
+            (192_000.0, 8960),
         ] {
             assert_eq!(friction_frame_len(rate), m, "{rate}");
+        }
+        for rate in [
+            8_000.0, 11_025.0, 16_000.0, 32_000.0, 44_100.0, 48_000.0, 176_400.0, 192_000.0,
+        ] {
+            let m = friction_frame_len(rate);
             let ms = 1000.0 * m as f64 / rate;
-            assert!((30.0..=65.0).contains(&ms), "{rate}: {ms} ms");
+            assert!(
+                m % 2 == 0 && (45.4..=47.4).contains(&ms),
+                "{rate}: {m} = {ms} ms"
+            );
         }
     }
 

@@ -14,8 +14,10 @@
 //! - **Magnitudes** (not powers), as S 149 says and v_k = s_k e^{iφ} implies.
 //! - **Real output**: a real inverse FFT of size M (`realfft`) on M/2 + 1 bins; DC and Nyquist
 //!   bins are 0 (they must be real). M = 2048 and hop 1024 at 44.1 kHz (T 1903); at other rates
-//!   M = `sounddb::friction_frame_len` (a power of two keeping the frame ≈ 46 ms: 48 kHz → 2048,
-//!   96 kHz → 4096, 192 kHz → 8192, 8 kHz → 512). The database spectra are moved onto these bins
+//!   M = `sounddb::friction_frame_len`: the even length with factors 2, 3, 5, 7 closest to
+//!   fs · 2048/44100, so the frame stays 46.4 ms ± 2 % and the bins 21.5 Hz apart at every rate
+//!   (48 kHz → 2240, 96 kHz → 4480, 192 kHz → 8960, 8 kHz → 378). The database spectra are moved
+//!   onto these bins
 //!   and scaled at load time (`sounddb::prepared`), never here.
 //! - **Window**: successive frames are independent noise, so the overlap uses the
 //!   power-complementary sine window w(n) = sin(π(n + ½)/M): w²(n) + w²(n + M/2) = 1, the
@@ -33,6 +35,8 @@
 //!   above the hop rate (200 Hz vs 43 Hz) is thus averaged, not sampled, and the OLA crossfade
 //!   interpolates between hops. Latency: ≤ 1 hop (23 ms) from a `set_frame` to the first sample of
 //!   friction it causes (test 4); the seeds' frame is 46 ms.
+//! - **Phases**: frame j draws its phases from its own noise stream (seed, j), so a skipped hop
+//!   does not shift the phases of later frames: the output with and without the skips is the same.
 //! - **Merging** (§11.4–11.5): within a hop, sources of the same cell at the same place (centre
 //!   within 5 mm, normal within 0.05, radius within 5 %) share one entry (amplitudes summed).
 //!   With [`super::RenderOptions::merge`] and no reflectors, entries of one cell are also summed
@@ -61,6 +65,8 @@ use super::rng::NoiseRng;
 pub const MAX_ENTRIES: usize = 64;
 /// Size of the random phase table (phases quantised to 2π/4096).
 const PHASE_TABLE: usize = 4096;
+/// First noise stream of the per-hop phase streams.
+const PHASE_STREAM_BASE: u64 = 1 << 32;
 /// Slip speeds below this are silence, m/s.
 pub const MIN_SLIP_SPEED_M_S: f32 = 1e-6;
 
@@ -107,8 +113,9 @@ pub struct Friction {
     /// Hops of non-zero output left in `pending`.
     live_hops: u8,
     phase_table: Vec<(f32, f32)>,
-    rng: NoiseRng,
     seed: u64,
+    /// Hop boundaries since reset (the phases of frame j come from stream j).
+    hop_index: u64,
     current: [Source; MAX_FRICTION_SOURCES],
     num_current: usize,
     seg_start: usize,
@@ -149,8 +156,8 @@ impl Friction {
             hop_pos: 0,
             live_hops: 0,
             phase_table,
-            rng: NoiseRng::new(seed, 2),
             seed,
+            hop_index: 0,
             current: [Source::default(); MAX_FRICTION_SOURCES],
             num_current: 0,
             seg_start: 0,
@@ -177,7 +184,7 @@ impl Friction {
         }
         self.hop_pos = 0;
         self.live_hops = 0;
-        self.rng = NoiseRng::new(self.seed, 2);
+        self.hop_index = 0;
         self.num_current = 0;
         self.seg_start = 0;
         self.num_entries = 0;
@@ -196,10 +203,11 @@ impl Friction {
         &mut self,
         sources: &[FrictionSource],
         db: &SoundDb,
+        merge: bool,
         counters: &mut RenderCounters,
     ) {
         let upto = self.hop_pos;
-        self.flush(upto, counters);
+        self.flush(upto, merge, counters);
         self.num_current = 0;
         for s in sources.iter().take(MAX_FRICTION_SOURCES) {
             let v = s.slip_speed_m_s.abs();
@@ -220,7 +228,7 @@ impl Friction {
     }
 
     /// Adds the current sources' contribution from `seg_start` to `upto` into the entries.
-    fn flush(&mut self, upto: usize, counters: &mut RenderCounters) {
+    fn flush(&mut self, upto: usize, merge: bool, counters: &mut RenderCounters) {
         let dur = upto.saturating_sub(self.seg_start) as f32;
         self.seg_start = upto;
         if dur <= 0.0 {
@@ -230,7 +238,7 @@ impl Friction {
             let w = s.amp * dur;
             if let Some(e) = self.entries[..self.num_entries]
                 .iter_mut()
-                .find(|e| e.cell == s.cell && same_place(&e.res, &s.res))
+                .find(|e| merge && e.cell == s.cell && same_place(&e.res, &s.res))
             {
                 e.weight += w;
                 counters.friction_sources_merged += 1;
@@ -295,7 +303,9 @@ impl Friction {
     ) {
         counters.friction_hops += 1;
         let hop = self.hop;
-        self.flush(hop, counters);
+        self.flush(hop, opts.merge, counters);
+        let hop_index = self.hop_index;
+        self.hop_index += 1;
         self.seg_start = 0;
         self.hop_pos = 0;
         if self.live_hops > 0 || !opts.skip_silent_friction {
@@ -315,12 +325,14 @@ impl Friction {
         }
         self.build_magnitudes(db, ears, reflectors, opts, counters);
         self.num_entries = 0;
-        // Random phases shared by both ears; DC and Nyquist stay real (0).
+        // Random phases shared by both ears, from the hop's own stream (so skipping silent hops
+        // never shifts later phases); DC and Nyquist stay real (0).
+        let mut rng = NoiseRng::new(self.seed, PHASE_STREAM_BASE + hop_index);
         for j in 0..self.bins {
             let (c, s) = if j == 0 || j == self.bins - 1 {
                 (0.0, 0.0)
             } else {
-                self.phase_table[(self.rng.next_u32() >> 20) as usize]
+                self.phase_table[(rng.next_u32() >> 20) as usize]
             };
             for e in 0..2 {
                 let a = self.mag[e][j];

@@ -149,12 +149,19 @@ impl TearNoise {
     /// One grain: w · r^α (0 below the gate).
     #[inline]
     pub fn grain(&mut self) -> f32 {
+        let (w, gain) = self.grain_parts();
+        w * gain
+    }
+
+    /// One grain's noise sample w and crackle gain r^α (0 below the gate).
+    #[inline]
+    pub fn grain_parts(&mut self) -> (f32, f32) {
         let w = self.rng.signed();
         let r = self.rng.uniform_open0();
         if r < self.r_gate {
-            0.0
+            (w, 0.0)
         } else {
-            w * (self.settings.alpha * r.ln()).exp()
+            (w, (self.settings.alpha * r.ln()).exp())
         }
     }
 
