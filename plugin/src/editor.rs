@@ -13,8 +13,7 @@ use nice_plug::editor::dpi::LogicalSize;
 use nice_plug::prelude::Param;
 use nice_plug_egui::widgets::ParamSlider;
 use nice_plug_egui::{
-    EguiEditor, EguiEditorState, EguiNiceSettings, NiceEguiApp, RepaintNotifier,
-    create_egui_editor,
+    EguiEditor, EguiEditorState, EguiNiceSettings, NiceEguiApp, RepaintNotifier, create_egui_editor,
 };
 use sim_core::GestureParam;
 
@@ -61,12 +60,7 @@ fn row(ui: &mut egui::Ui, param: &impl Param, setter: &ParamSetter) {
 }
 
 impl PapierEditor {
-    fn group(
-        ui: &mut egui::Ui,
-        title: &str,
-        id: &str,
-        body: impl FnOnce(&mut egui::Ui),
-    ) {
+    fn group(ui: &mut egui::Ui, title: &str, id: &str, body: impl FnOnce(&mut egui::Ui)) {
         ui.group(|ui| {
             ui.strong(title);
             egui::Grid::new(id)

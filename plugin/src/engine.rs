@@ -150,18 +150,27 @@ impl Engine {
         store_generation: u64,
         meters: Arc<Meters>,
     ) -> Result<Self, EngineError> {
-        // The sheet follows the parameters: bring it in line before the first frame.
-        if sim.config().size != params.size {
+        // The sheet follows the parameters: bring it in line before the first frame. Only what
+        // differs is sent, so that a restored sheet at rest stays at rest (and re-saves
+        // identically).
+        let cfg = *sim.config();
+        if cfg.size != params.size {
             sim.apply(Command::Size(params.size));
         }
-        sim.apply(Command::Material(params.material));
-        sim.apply(Command::Seed(params.seed));
-        sim.apply(Command::Room(params.room));
+        if cfg.material != params.material {
+            sim.apply(Command::Material(params.material));
+        }
+        if cfg.seed != params.seed {
+            sim.apply(Command::Seed(params.seed));
+        }
+        if cfg.room != params.room.sanitized() {
+            sim.apply(Command::Room(params.room));
+        }
         for g in GestureParam::ALL {
-            sim.apply(Command::Gesture {
-                param: g,
-                value: params.gestures[g.index()],
-            });
+            let value = params.gestures[g.index()];
+            if sim.gesture(g).to_bits() != value.to_bits() {
+                sim.apply(Command::Gesture { param: g, value });
+            }
         }
         let frames = FrameClock::new(sample_rate_hz, sim.config().frame_rate_hz);
         let mut renderer = Renderer::new(sample_rate_hz, db, params.seed);
@@ -264,7 +273,11 @@ impl Engine {
                 }
             }
             Host::Threaded(t) => {
-                if t.shared.commands.push(WorkerMsg { at_sample, kind }).is_err() {
+                if t.shared
+                    .commands
+                    .push(WorkerMsg { at_sample, kind })
+                    .is_err()
+                {
                     self.meters.commands_dropped.fetch_add(1, Ordering::Relaxed);
                 }
             }
@@ -441,7 +454,9 @@ impl Engine {
             }
             peak = peak.max(s.abs());
         }
-        self.meters.peak_bits.store(peak.to_bits(), Ordering::Relaxed);
+        self.meters
+            .peak_bits
+            .store(peak.to_bits(), Ordering::Relaxed);
         self.clock += n as u64;
         if let Host::Threaded(t) = &self.host {
             // The worker polls this clock; no syscall (unpark) from the audio thread.

@@ -119,7 +119,12 @@ fn load_db(path: Option<&Path>) -> Result<Arc<SoundDb>, OfflineError> {
     }
 }
 
-fn write_obj(dir: &Path, index: u64, sim: &Sim, mesh: &mut MeshSnapshot) -> Result<(), OfflineError> {
+fn write_obj(
+    dir: &Path,
+    index: u64,
+    sim: &Sim,
+    mesh: &mut MeshSnapshot,
+) -> Result<(), OfflineError> {
     sim.write_mesh(mesh);
     let path = dir.join(format!("frame_{index:05}.obj"));
     let file = std::fs::File::create(&path)
@@ -201,9 +206,8 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         bits_per_sample: 32,
         sample_format: hound::SampleFormat::Float,
     };
-    let mut wav = hound::WavWriter::create(&opts.out, spec).map_err(|e| {
-        OfflineError::Output(format!("cannot write {}: {e}", opts.out.display()))
-    })?;
+    let mut wav = hound::WavWriter::create(&opts.out, spec)
+        .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
 
     let meters = Arc::new(Meters::default());
     let sim = Sim::new(crate::sim_config(&params));
@@ -314,7 +318,9 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             peak = peak.max(l.abs()).max(r.abs());
             wav.write_sample(l)
                 .and_then(|_| wav.write_sample(r))
-                .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
+                .map_err(|e| {
+                    OfflineError::Output(format!("cannot write {}: {e}", opts.out.display()))
+                })?;
         }
         pos = block_end;
         progress.set_position(pos);

@@ -222,7 +222,11 @@ impl Sim {
                 self.gesture = gesture;
             }
             Command::Grab { slot, grip } => {
-                let g = if grip.is_finite() { grip.clamp(0.0, 1.0) } else { 0.5 };
+                let g = if grip.is_finite() {
+                    grip.clamp(0.0, 1.0)
+                } else {
+                    0.5
+                };
                 self.held[slot.index()] = Some(g);
                 self.asleep = false;
             }
