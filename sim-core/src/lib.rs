@@ -11,25 +11,41 @@
 //!
 //! Per frame, in order:
 //! 1. commands (gestures, grabs, room changes) are applied ([`control`]);
-//! 2. the gesture rig turns gesture values into handle targets;
-//! 3. the physics step moves S_P with the handles as hard constraints;
-//! 4. the geometry layer updates S_G;
-//! 5. per-frame outputs for sound are written into a [`sound_input::SoundFrame`].
+//! 2. the gesture rig turns gesture values into handle targets ([`gesture_rig`], [`handles`]);
+//! 3. the physics step moves S_P with the handles as hard constraints ([`physics`]), against
+//!    the room's obstacles with friction ([`collision`]);
+//! 4. the geometry layer updates S_G ([`sheet::geometric`]; its operations are the next issue);
+//! 5. contacts, metrics ([`metrics`]) and per-frame outputs for sound
+//!    ([`sound_input::SoundFrame`]) are written.
 //!
 //! Inputs are described by [`control::Command`]; scripted inputs (automation lanes and grabs)
-//! by [`script::Script`].
+//! by [`script::Script`], played by [`script_runner::ScriptRunner`]; the seed scenarios are in
+//! [`scenario`].
 
 #![warn(missing_docs)]
 
+pub mod collision;
 pub mod control;
+pub mod gesture_rig;
+pub mod handles;
+pub mod material;
+pub mod math;
 pub mod mesh_snapshot;
+pub mod metrics;
+pub mod physics;
 pub mod room;
+pub mod scenario;
 pub mod script;
+pub mod script_runner;
+pub mod sheet;
 pub mod sim;
 pub mod sound_input;
 
+pub use collision::VertexContact;
 pub use control::{Command, GestureParam, GrabSlot, Material, SheetSize};
 pub use mesh_snapshot::MeshSnapshot;
+pub use physics::{SolverConfig, SolverKind};
 pub use room::RoomConfig;
-pub use sim::{FrameOutput, SavedSheet, Sim, SimConfig};
+pub use sheet::MeshConfig;
+pub use sim::{FrameOutput, FrameStats, RestoreError, SavedSheet, Sim, SimConfig};
 pub use sound_input::SoundFrame;

@@ -2,31 +2,70 @@
 //!
 //! [`Sim`] is what the plugin's worker thread, the offline renderer, the tests and the benches
 //! drive: apply [`Command`]s, then [`Sim::step`] one frame, read the [`FrameOutput`] (sound
-//! input and statistics) and, when wanted, copy the mesh out ([`Sim::write_mesh`]).
+//! input and statistics), the per-vertex contacts ([`Sim::contacts`]) and, when wanted, copy
+//! the mesh out ([`Sim::write_mesh`]).
 //!
-//! Frames have a fixed duration `1 / frame_rate_hz` of simulated time; the caller decides when to
-//! step (the plugin follows the audio sample clock, the offline renderer steps in lockstep with
-//! the audio). Given the same configuration, seed and command sequence, the output is
-//! bit-identical.
+//! Frames have a fixed duration `1 / frame_rate_hz` of simulated time; the caller decides when
+//! to step (the plugin follows the audio sample clock, the offline renderer steps in lockstep
+//! with the audio). Given the same configuration, seed and command sequence, the output is
+//! bit-identical: no hash-map iteration, no time-based seeds, no threads inside a step.
 //!
-//! **Current state of this module:** the sheet is a flat triangulated pattern whose held points
-//! move kinematically towards the gesture targets; points that are not held do not move. The
-//! physics step (StVK membrane, hinge bending, implicit integration, collisions) replaces this
-//! kinematic stage in the sim-core part 1 work.
+//! ## One frame (digest-crumpling §3.0, steps (a)–(c) of Fig. 16 / Fig. 2.3)
+//!
+//! 1. (a) the gesture rig turns the gesture values into handle target poses and moves the
+//!    handles ([`crate::gesture_rig`], [`crate::handles`]); obstacle planes that were moved by
+//!    a room command ease towards their new place ([`crate::collision`]);
+//! 2. (b) `substeps` physics substeps ([`crate::physics`]) with the held vertices as hard
+//!    constraints interpolated across the frame, obstacles and friction;
+//! 3. (c) S_G reads its vertex positions from S_P ([`crate::sheet::geometric`]);
+//! 4. contacts (flag, obstacle, slip speed, normal force) and metrics are updated and the
+//!    statistics written.
+//!
+//! The geometry layer (steps (d)–(h): compression analysis, rulings, singular points, cone
+//! fitting, isometry) is the next issue; its data model is in place.
+//!
+//! ## Sleeping
+//!
+//! A sheet at rest costs nothing: when no handle moves, no gesture or obstacle is settling and
+//! every vertex is slower than [`SLEEP_SPEED_M_S`] for [`SLEEP_FRAMES`] consecutive frames, the
+//! velocities are zeroed and the sheet sleeps — `step` then only advances the frame counter
+//! (the work counter [`Sim::work_counter`] does not move). Any command that changes something
+//! wakes it.
+//!
+//! ## Allocation
+//!
+//! Everything is allocated in [`Sim::new`] (and on `Reset` / `Size`, which rebuild the
+//! sheet); `step`, the other commands and [`Sim::write_mesh`] into a snapshot of sufficient
+//! capacity ([`Sim::mesh_capacity`]) do not allocate (tested with a counting allocator).
 
-use serde::{Deserialize, Serialize};
-use thiserror::Error;
+mod saved;
 
-use crate::control::{Command, GestureParam, GrabSlot, Material, SheetSize};
+pub use saved::{RestoreError, SAVED_SHEET_VERSION, SavedSheet};
+
+use rand::SeedableRng;
+
+use crate::collision::{
+    CONTACT_SKIN_M, Obstacles, TOUCH_DIST_M, VertexContact, penalty_stiffness,
+};
+use crate::control::{Command, GestureParam, Material, SheetSize};
+use crate::gesture_rig::GestureRig;
+use crate::material::PaperMaterial;
+use crate::math::{V2, V3};
 use crate::mesh_snapshot::{MeshSnapshot, VertexTag};
+use crate::metrics::{Metrics, MetricsTracker};
+use crate::physics::{Kinematics, PhysParams, Physics, SolverConfig};
 use crate::room::RoomConfig;
+use crate::sheet::pattern::{Pattern, lattice};
+use crate::sheet::{MeshConfig, Sheet};
 use crate::sound_input::SoundFrame;
 
 /// Default number of simulation frames per second of simulated time.
 pub const DEFAULT_FRAME_RATE_HZ: f64 = 200.0;
 
-/// Version of [`SavedSheet`]; bump it (and migrate) whenever its meaning changes.
-pub const SAVED_SHEET_VERSION: u32 = 1;
+/// Largest vertex speed of a sheet allowed to fall asleep, m/s.
+pub const SLEEP_SPEED_M_S: f64 = 2e-3;
+/// Consecutive quiet frames before the sheet falls asleep.
+pub const SLEEP_FRAMES: u32 = 40;
 
 /// Everything that defines a sheet before any command.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,6 +80,10 @@ pub struct SimConfig {
     pub room: RoomConfig,
     /// Simulation frames per second.
     pub frame_rate_hz: f64,
+    /// Physics solver parameters (substeps, iterations, stiffness scaling, damping).
+    pub solver: SolverConfig,
+    /// Mesh density of new sheets.
+    pub mesh: MeshConfig,
 }
 
 impl Default for SimConfig {
@@ -51,11 +94,27 @@ impl Default for SimConfig {
             seed: 1,
             room: RoomConfig::default(),
             frame_rate_hz: DEFAULT_FRAME_RATE_HZ,
+            solver: SolverConfig::default(),
+            mesh: MeshConfig::default(),
         }
     }
 }
 
-/// Per-frame statistics (editor meters, renderer report).
+impl SimConfig {
+    /// Returns a copy with every value finite and in range.
+    pub fn sanitized(self) -> Self {
+        let mut c = self;
+        c.room = c.room.sanitized();
+        if !(c.frame_rate_hz.is_finite() && (1.0..=100_000.0).contains(&c.frame_rate_hz)) {
+            c.frame_rate_hz = DEFAULT_FRAME_RATE_HZ;
+        }
+        c.solver = c.solver.sanitized();
+        c.mesh = c.mesh.sanitized();
+        c
+    }
+}
+
+/// Per-frame statistics (editor meters, renderer report, benches).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameStats {
     /// True if the sheet was asleep and the frame did no work.
@@ -70,6 +129,27 @@ pub struct FrameStats {
     pub c_mean_pct: f32,
     /// Kinetic energy, joules.
     pub kinetic_energy_j: f32,
+    /// Percentage of edges compressed by more than 1 %.
+    pub n_comp_pct: f32,
+    /// Largest principal stretch deviation |λ − 1| over triangles.
+    pub max_strain: f32,
+    /// Σ over interior vertices of |2π − Σ angles|, radians.
+    pub angle_defect_rad: f32,
+    /// Largest vertex speed, m/s.
+    pub max_speed_m_s: f32,
+    /// Vertices touching an obstacle.
+    pub num_contacts: u32,
+    /// Vertices held by handles.
+    pub num_held: u32,
+    /// Triangles whose normal turned over since the previous frame (0 unless the integration
+    /// failed).
+    pub num_flipped: u32,
+    /// Physics substeps integrated in this frame.
+    pub substeps: u32,
+    /// Solver iterations summed over the frame's substeps.
+    pub iterations: u32,
+    /// Substeps whose state had to be recovered (non-finite); 0 in a healthy run.
+    pub recoveries: u32,
 }
 
 /// What one frame produces.
@@ -81,113 +161,74 @@ pub struct FrameOutput {
     pub stats: FrameStats,
 }
 
-/// A sheet as saved in a project: enough to reopen it identically.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SavedSheet {
-    /// Format version ([`SAVED_SHEET_VERSION`]).
-    pub version: u32,
-    /// Sheet size.
-    pub size: SheetSize,
-    /// Paper grade.
-    pub material: Material,
-    /// Seed.
-    pub seed: u64,
-    /// Frame counter.
-    pub frame: u64,
-    /// 3D positions, metres.
-    pub positions_m: Vec<[f64; 3]>,
-}
-
-/// Why a saved sheet could not be restored.
-#[derive(Debug, Error, PartialEq)]
-pub enum RestoreError {
-    /// Written by a newer or unknown format version.
-    #[error("saved sheet has version {0}, this build reads version {SAVED_SHEET_VERSION}")]
-    Version(u32),
-    /// Vertex count does not match the sheet's mesh.
-    #[error("saved sheet has {found} vertices, a {size:?} sheet has {expected}")]
-    VertexCount {
-        /// Sheet size.
-        size: SheetSize,
-        /// Expected count.
-        expected: usize,
-        /// Count in the saved data.
-        found: usize,
-    },
-    /// A position is NaN, infinite or absurdly far away.
-    #[error("saved sheet has a non-finite or out-of-room position at vertex {0}")]
-    BadPosition(usize),
-}
-
-/// Target grid spacing of the kinematic sheet's pattern, metres.
-const GRID_SPACING_M: f64 = 0.025;
-
 /// The simulated sheet.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Sim {
     cfg: SimConfig,
     frame: u64,
-    nx: usize,
-    ny: usize,
-    pattern: Vec<[f64; 2]>,
-    rest: Vec<[f64; 3]>,
-    pos: Vec<[f64; 3]>,
-    triangles: Vec<[u32; 3]>,
-    held: [Option<f32>; 5],
-    gesture: [f32; GestureParam::COUNT],
+    sheet: Sheet,
+    physics: Physics,
+    rig: GestureRig,
+    obstacles: Obstacles,
+    material: PaperMaterial,
+    params: PhysParams,
+    rng: rand_pcg::Pcg32,
+    fixed: Vec<bool>,
+    kin_target: Vec<V3>,
+    contacts: Vec<VertexContact>,
+    metrics: MetricsTracker,
+    last_metrics: Metrics,
     asleep: bool,
+    quiet_frames: u32,
+    mesh_capacity: (usize, usize),
+    frames_simulated: u64,
 }
 
 impl Sim {
-    /// A new flat sheet resting at its home position.
+    /// A new flat sheet resting at its home position (on the table, or falling if the table
+    /// is off).
     pub fn new(cfg: SimConfig) -> Self {
-        let mut cfg = cfg;
-        cfg.room = cfg.room.sanitized();
-        if !(cfg.frame_rate_hz.is_finite() && cfg.frame_rate_hz >= 1.0) {
-            cfg.frame_rate_hz = DEFAULT_FRAME_RATE_HZ;
-        }
-        let (w, l) = cfg.size.dims_m();
-        let nx = ((w / GRID_SPACING_M).round() as usize).max(2);
-        let ny = ((l / GRID_SPACING_M).round() as usize).max(2);
-        let mut pattern = Vec::with_capacity((nx + 1) * (ny + 1));
-        for j in 0..=ny {
-            for i in 0..=nx {
-                pattern.push([
-                    (i as f64 / nx as f64 - 0.5) * w,
-                    (j as f64 / ny as f64 - 0.5) * l,
-                ]);
-            }
-        }
-        let mut triangles = Vec::with_capacity(2 * nx * ny);
-        let idx = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-        for j in 0..ny {
-            for i in 0..nx {
-                triangles.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-                triangles.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-            }
-        }
-        let h = cfg.room.home_height_m();
-        let rest: Vec<[f64; 3]> = pattern.iter().map(|p| [p[0], p[1], h]).collect();
-        let mut gesture = [0.0; GestureParam::COUNT];
-        for g in GestureParam::ALL {
-            gesture[g.index()] = g.default_value();
-        }
-        Self {
-            cfg,
-            frame: 0,
-            nx,
-            ny,
-            pattern,
-            pos: rest.clone(),
-            rest,
-            triangles,
-            held: [None; 5],
-            gesture,
-            asleep: true,
-        }
+        let cfg = cfg.sanitized();
+        let material = PaperMaterial::of(cfg.material);
+        let sheet = Sheet::new_flat(cfg.size, cfg.mesh, cfg.room.home_height_m(), material.areal_density_kg_m2);
+        let mut sim = Self::with_sheet(cfg, sheet);
+        sim.asleep = cfg.room.table;
+        sim
     }
 
-    /// The configuration (after sanitizing).
+    fn with_sheet(cfg: SimConfig, sheet: Sheet) -> Self {
+        let material = PaperMaterial::of(cfg.material);
+        let params = PhysParams::new(&material, &cfg.solver);
+        let n = sheet.sp.num_vertices();
+        let obstacles = Obstacles::new(&cfg.room);
+        let rig = GestureRig::new(&sheet, cfg.room.home_height_m());
+        let metrics = MetricsTracker::new(&sheet.sp);
+        let mut sim = Self {
+            physics: Physics::new(&sheet.sp),
+            rig,
+            obstacles,
+            material,
+            params,
+            rng: rand_pcg::Pcg32::seed_from_u64(cfg.seed),
+            fixed: vec![false; n],
+            kin_target: vec![V3::zeros(); n],
+            contacts: vec![VertexContact::default(); n],
+            metrics,
+            last_metrics: Metrics::default(),
+            asleep: false,
+            quiet_frames: 0,
+            mesh_capacity: mesh_capacity_for(&cfg),
+            frames_simulated: 0,
+            cfg,
+            frame: 0,
+            sheet,
+        };
+        sim.update_contacts();
+        sim.last_metrics = sim.metrics.compute(&sim.sheet.sp);
+        sim
+    }
+
+    /// The configuration (after sanitizing, with the current size, material, seed and room).
     pub fn config(&self) -> &SimConfig {
         &self.cfg
     }
@@ -207,70 +248,140 @@ impl Sim {
         self.asleep
     }
 
-    /// Current value of a gesture.
+    /// Current (commanded) value of a gesture.
     pub fn gesture(&self, g: GestureParam) -> f32 {
-        self.gesture[g.index()]
+        self.rig.state.commanded[g.index()]
+    }
+
+    /// The sheet (S_P and S_G), read-only.
+    pub fn sheet(&self) -> &Sheet {
+        &self.sheet
+    }
+
+    /// Per-vertex contacts after the last frame (same indexing as the S_P vertices).
+    pub fn contacts(&self) -> &[VertexContact] {
+        &self.contacts
+    }
+
+    /// Metrics of the last frame.
+    pub fn metrics(&self) -> &Metrics {
+        &self.last_metrics
+    }
+
+    /// The obstacles (effective planes).
+    pub fn obstacles(&self) -> &Obstacles {
+        &self.obstacles
+    }
+
+    /// The gesture rig (handles, gestures).
+    pub fn rig(&self) -> &GestureRig {
+        &self.rig
+    }
+
+    /// Work counter: physics substeps integrated since creation (does not move while asleep).
+    pub fn work_counter(&self) -> u64 {
+        self.physics.substeps_done
+    }
+
+    /// Sparse factorizations done by the Newton solver since the last rebuild.
+    pub fn factorizations(&self) -> u64 {
+        self.physics.factorizations()
+    }
+
+    /// Frames that ran the physics (not asleep) since creation.
+    pub fn frames_simulated(&self) -> u64 {
+        self.frames_simulated
+    }
+
+    fn wake(&mut self) {
+        self.asleep = false;
+        self.quiet_frames = 0;
+    }
+
+    /// Rebuilds a flat sheet with the current configuration (Reset, Size).
+    fn rebuild(&mut self) {
+        let held = self.rig.state.clone();
+        let sheet = Sheet::new_flat(
+            self.cfg.size,
+            self.cfg.mesh,
+            self.cfg.room.home_height_m(),
+            self.material.areal_density_kg_m2,
+        );
+        let frames_simulated = self.frames_simulated;
+        let substeps = self.physics.substeps_done;
+        let obstacles = self.obstacles;
+        *self = Self::with_sheet(self.cfg, sheet);
+        self.obstacles = obstacles;
+        self.frames_simulated = frames_simulated;
+        self.physics.substeps_done = substeps;
+        // Gestures and held slots survive; held handles re-anchor on the new sheet.
+        self.rig.state.commanded = held.commanded;
+        self.rig.state.smoothed = held.smoothed;
+        self.rig.state.held = held.held;
+        self.rig.state.shake_phase_rad = held.shake_phase_rad;
+        self.rig.state.crumple_jitter = held.crumple_jitter;
+        self.rig.state.crumple_active = held.crumple_active;
+        for k in 0..held.handles.len() {
+            self.rig.state.handles[k].active = held.handles[k].active;
+            self.rig.state.handles[k].speed_m_s = held.handles[k].speed_m_s;
+        }
+        self.rig.rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
+        self.wake();
     }
 
     /// Applies one command. Non-finite values are ignored; everything else is clamped.
     pub fn apply(&mut self, cmd: Command) {
         match cmd {
-            Command::Reset => {
-                let cfg = self.cfg;
-                let gesture = self.gesture;
-                *self = Sim::new(cfg);
-                self.gesture = gesture;
-            }
-            Command::Grab { slot, grip } => {
-                let g = if grip.is_finite() {
-                    grip.clamp(0.0, 1.0)
-                } else {
-                    0.5
-                };
-                self.held[slot.index()] = Some(g);
-                self.asleep = false;
-            }
-            Command::Release { slot } => {
-                self.held[slot.index()] = None;
-                self.asleep = false;
-            }
-            Command::ReleaseAll => {
-                self.held = [None; 5];
-                self.asleep = false;
-            }
-            Command::Gesture { param, value } => {
-                if let Some(v) = param.sanitize(value) {
-                    self.gesture[param.index()] = v;
-                    self.asleep = false;
-                }
-            }
+            Command::Reset => self.rebuild(),
             Command::Size(size) => {
                 if size != self.cfg.size {
-                    let mut cfg = self.cfg;
-                    cfg.size = size;
-                    let gesture = self.gesture;
-                    let held = self.held;
-                    *self = Sim::new(cfg);
-                    self.gesture = gesture;
-                    self.held = held;
+                    self.cfg.size = size;
+                    self.rebuild();
                 }
             }
-            Command::Material(m) => self.cfg.material = m,
+            Command::Grab { slot, grip } => {
+                self.rig.grab(slot, grip, &self.sheet.sp.pos);
+                self.wake();
+            }
+            Command::Release { slot } => {
+                if self.rig.state.held[slot.index()].is_some() {
+                    self.rig.release(slot);
+                    self.wake();
+                }
+            }
+            Command::ReleaseAll => {
+                if self.rig.state.held.iter().any(Option::is_some) {
+                    self.rig.release_all();
+                    self.wake();
+                }
+            }
+            Command::Gesture { param, value } => {
+                if let Some(v) = param.sanitize(value)
+                    && v != self.rig.state.commanded[param.index()]
+                {
+                    self.rig.set_gesture(param, v);
+                    self.wake();
+                }
+            }
+            Command::Material(m) => {
+                if m != self.cfg.material {
+                    self.cfg.material = m;
+                    self.material = PaperMaterial::of(m);
+                    self.params = PhysParams::new(&self.material, &self.cfg.solver);
+                    self.sheet.sp.set_areal_density(self.material.areal_density_kg_m2);
+                    self.wake();
+                }
+            }
             Command::Seed(s) => self.cfg.seed = s,
             Command::Room(r) => {
-                self.cfg.room = r.sanitized();
-                self.asleep = false;
+                let r = r.sanitized();
+                if r != self.cfg.room {
+                    self.cfg.room = r;
+                    self.obstacles.set_room(&r, &self.sheet.sp.pos);
+                    self.rig.set_home_height(r.home_height_m());
+                    self.wake();
+                }
             }
-        }
-    }
-
-    fn slot_holds(&self, slot: GrabSlot, i: usize, j: usize) -> bool {
-        match slot {
-            GrabSlot::Back => j == self.ny,
-            GrabSlot::Front => j == 0,
-            GrabSlot::Left => i == 0,
-            GrabSlot::Right => i == self.nx,
-            GrabSlot::Corners => (i == 0 || i == self.nx) && (j == 0 || j == self.ny),
         }
     }
 
@@ -280,140 +391,237 @@ impl Sim {
         self.frame += 1;
         out.sound.frame = self.frame;
         out.sound.time_s = self.time_s();
-        let any_held = self.held.iter().any(Option::is_some);
-        if self.asleep && !any_held {
-            out.stats = self.stats(true);
+        if self.asleep {
+            out.stats = self.stats(true, 0, 0, 0);
             return;
         }
-        let (_, l) = self.cfg.size.dims_m();
-        let t = self.time_s();
-        let slide = f64::from(self.gesture(GestureParam::Slide)) * 0.5 * l;
-        let lift = f64::from(self.gesture(GestureParam::Lift)) * 0.5 * l;
-        let depth = f64::from(self.gesture(GestureParam::ShakeDepth)) * 0.05 * l;
-        let rate = f64::from(self.gesture(GestureParam::ShakeRateHz));
-        let shake = depth * (std::f64::consts::TAU * rate * t).sin();
+        self.frames_simulated += 1;
         let dt = 1.0 / self.cfg.frame_rate_hz;
-        let mut moved = false;
-        for j in 0..=self.ny {
-            for i in 0..=self.nx {
-                let v = j * (self.nx + 1) + i;
-                let mut grip = None;
-                for slot in GrabSlot::ALL {
-                    if let Some(g) = self.held[slot.index()]
-                        && self.slot_holds(slot, i, j)
-                    {
-                        grip = Some(grip.map_or(g, |x: f32| x.max(g)));
-                    }
-                }
-                let Some(grip) = grip else { continue };
-                let front = j * 2 < self.ny;
-                let r = self.rest[v];
-                let target = [
-                    r[0],
-                    r[1] + if front { slide } else { 0.0 },
-                    r[2] + if front { lift } else { 0.0 } + shake,
-                ];
-                // Travel speed grows with grip: 0.2 m/s at grip 0 to 2 m/s at grip 1.
-                let max_step = (0.2 + 1.8 * f64::from(grip)) * dt;
-                let p = &mut self.pos[v];
-                let d = [target[0] - p[0], target[1] - p[1], target[2] - p[2]];
-                let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                if n > 1e-9 {
-                    let s = (max_step / n).min(1.0);
-                    for k in 0..3 {
-                        p[k] += d[k] * s;
-                    }
-                    moved = true;
+        let frame_scale = DEFAULT_FRAME_RATE_HZ / self.cfg.frame_rate_hz;
+        let planes_moved = self.obstacles.ease(dt);
+        let handles_moved = self
+            .rig
+            .advance_frame(dt, frame_scale, &self.sheet.sp.pos, &mut self.rng);
+        let n_sub = self.cfg.solver.substeps;
+        let h = dt / f64::from(n_sub);
+        let (mut iterations, mut recoveries) = (0u32, 0u32);
+        for s in 1..=n_sub {
+            let frac = f64::from(s) / f64::from(n_sub);
+            self.rig
+                .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target, &self.obstacles);
+            let r = self.physics.substep(
+                &mut self.sheet.sp,
+                Kinematics {
+                    fixed: &self.fixed,
+                    target: &self.kin_target,
+                },
+                &self.obstacles,
+                &self.params,
+                &self.cfg.solver,
+                h,
+            );
+            iterations += r.iterations;
+            recoveries += u32::from(r.recovered);
+        }
+        self.sheet.sg.pull_positions(&self.sheet.sp);
+        self.update_contacts();
+        self.last_metrics = self.metrics.compute(&self.sheet.sp);
+
+        let quiet = !handles_moved
+            && !planes_moved
+            && !self.rig.is_moving()
+            && !self.obstacles.is_moving()
+            && self.last_metrics.max_speed_m_s < SLEEP_SPEED_M_S;
+        self.quiet_frames = if quiet { self.quiet_frames + 1 } else { 0 };
+        if self.quiet_frames >= SLEEP_FRAMES {
+            self.asleep = true;
+            for v in &mut self.sheet.sp.vel {
+                *v = V3::zeros();
+            }
+            self.update_contacts();
+            self.last_metrics = self.metrics.compute(&self.sheet.sp);
+        }
+        out.stats = self.stats(false, n_sub, iterations, recoveries);
+    }
+
+    fn update_contacts(&mut self) {
+        let sp = &self.sheet.sp;
+        for (i, c) in self.contacts.iter_mut().enumerate() {
+            *c = VertexContact::default();
+            let x = sp.pos[i];
+            let mut best = TOUCH_DIST_M;
+            for pl in self.obstacles.active() {
+                let d = pl.distance(&x);
+                if d < best {
+                    best = d;
+                    let v = sp.vel[i];
+                    let vt = v - pl.normal * v.dot(&pl.normal);
+                    let pen = (CONTACT_SKIN_M - d).max(0.0);
+                    *c = VertexContact {
+                        in_contact: true,
+                        obstacle: pl.kind,
+                        slip_speed_m_s: vt.norm() as f32,
+                        normal_force_n: (penalty_stiffness(sp.mass_kg[i]) * pen) as f32,
+                    };
                 }
             }
         }
-        self.asleep = !moved && !any_held;
-        out.stats = self.stats(false);
     }
 
-    fn stats(&self, asleep: bool) -> FrameStats {
+    fn stats(&self, asleep: bool, substeps: u32, iterations: u32, recoveries: u32) -> FrameStats {
+        let m = &self.last_metrics;
         FrameStats {
             asleep,
-            num_vertices: self.pos.len() as u32,
-            num_triangles: self.triangles.len() as u32,
-            num_singular: 0,
-            c_mean_pct: 0.0,
-            kinetic_energy_j: 0.0,
+            num_vertices: m.num_vertices as u32,
+            num_triangles: m.num_triangles as u32,
+            num_singular: m.num_singular as u32,
+            c_mean_pct: m.c_mean_pct as f32,
+            kinetic_energy_j: m.kinetic_energy_j as f32,
+            n_comp_pct: m.n_comp_pct as f32,
+            max_strain: m.max_strain as f32,
+            angle_defect_rad: m.angle_defect_sum_rad as f32,
+            max_speed_m_s: m.max_speed_m_s as f32,
+            num_contacts: self.contacts.iter().filter(|c| c.in_contact).count() as u32,
+            num_held: self.rig.held_vertices().count() as u32,
+            num_flipped: m.num_flipped as u32,
+            substeps,
+            iterations,
+            recoveries,
         }
     }
 
-    /// Upper bounds of the mesh size, for preallocating snapshots.
+    /// Upper bounds of the mesh size (vertices, triangles) for preallocating snapshots: the
+    /// largest mesh any sheet size can have at the configured density, with room for the
+    /// geometry layer's enrichment (×2).
     pub fn mesh_capacity(&self) -> (usize, usize) {
-        (self.pos.len(), self.triangles.len())
+        let (v, t) = self.mesh_capacity;
+        (v.max(self.sheet.sp.num_vertices()), t.max(self.sheet.sp.num_triangles()))
     }
 
     /// Copies the mesh out (no allocation when `out` has the capacity).
     pub fn write_mesh(&self, out: &mut MeshSnapshot) {
         out.clear();
         out.frame = self.frame;
-        for (p, q) in self.pos.iter().zip(&self.pattern) {
-            out.positions_m
-                .push([p[0] as f32, p[1] as f32, p[2] as f32]);
-            out.pattern_m.push([q[0] as f32, q[1] as f32]);
+        let sp = &self.sheet.sp;
+        for (p, q) in sp.pos.iter().zip(&sp.pattern) {
+            out.positions_m.push([p.x as f32, p.y as f32, p.z as f32]);
+            out.pattern_m.push([q.x as f32, q.y as f32]);
+            out.tags.push(VertexTag::Plain);
         }
-        for j in 0..=self.ny {
-            for i in 0..=self.nx {
-                let held = GrabSlot::ALL
-                    .iter()
-                    .any(|s| self.held[s.index()].is_some() && self.slot_holds(*s, i, j));
-                out.tags.push(if held {
-                    VertexTag::Handle
-                } else {
-                    VertexTag::Plain
-                });
-            }
+        for v in self.rig.held_vertices() {
+            out.tags[v as usize] = VertexTag::Handle;
         }
-        out.triangles.extend_from_slice(&self.triangles);
+        for &v in &sp.singular {
+            out.tags[v as usize] = VertexTag::Singular;
+        }
+        out.triangles.extend_from_slice(&sp.triangles);
     }
 
     /// The sheet as saved in a project.
     pub fn save(&self) -> SavedSheet {
+        let sp = &self.sheet.sp;
+        let (suppressed, pending) = self.rig.ownership_flags();
         SavedSheet {
             version: SAVED_SHEET_VERSION,
             size: self.cfg.size,
             material: self.cfg.material,
             seed: self.cfg.seed,
             frame: self.frame,
-            positions_m: self.pos.clone(),
+            pattern_m: sp.pattern.iter().map(|q| [q.x, q.y]).collect(),
+            triangles: sp.triangles.clone(),
+            positions_m: sp.pos.iter().map(|p| [p.x, p.y, p.z]).collect(),
+            velocities_m_s: sp.vel.iter().map(|v| [v.x, v.y, v.z]).collect(),
+            edge_rest_angle_rad: sp.edge_rest_angle.clone(),
+            edge_damage: sp.edge_damage.clone(),
+            singular_vertices: sp.singular.clone(),
+            rng: self.rng.clone(),
+            rig: self.rig.state.clone(),
+            rig_suppressed: suppressed,
+            rig_ownership_pending: pending,
+            obstacle_offsets_m: self.obstacles.planes.map(|p| p.offset_m),
+            obstacle_active: self.obstacles.planes.map(|p| p.active),
+            asleep: self.asleep,
+            quiet_frames: self.quiet_frames,
         }
     }
 
-    /// Rebuilds a sheet from saved data; the room and frame rate come from `cfg`.
+    /// Rebuilds a sheet from saved data; the room, frame rate, solver and mesh settings come
+    /// from `cfg`, the size, material and seed from the saved sheet.
     pub fn restore(cfg: SimConfig, saved: &SavedSheet) -> Result<Self, RestoreError> {
-        if saved.version != SAVED_SHEET_VERSION {
-            return Err(RestoreError::Version(saved.version));
-        }
-        let mut cfg = cfg;
+        saved.validate_fields()?;
+        let mut cfg = cfg.sanitized();
         cfg.size = saved.size;
         cfg.material = saved.material;
         cfg.seed = saved.seed;
-        let mut sim = Sim::new(cfg);
-        if saved.positions_m.len() != sim.pos.len() {
-            return Err(RestoreError::VertexCount {
-                size: saved.size,
-                expected: sim.pos.len(),
-                found: saved.positions_m.len(),
-            });
+        let material = PaperMaterial::of(cfg.material);
+        let pattern = Pattern {
+            points: saved.pattern_m.iter().map(|p| V2::new(p[0], p[1])).collect(),
+            triangles: saved.triangles.clone(),
+        };
+        let sheet = Sheet::from_pattern(cfg.size, &pattern, cfg.room.home_height_m(), material.areal_density_kg_m2)
+            .map_err(|e| RestoreError::BadMesh(e.to_string()))?;
+        let ne = sheet.sp.num_edges();
+        if saved.edge_rest_angle_rad.len() != ne || saved.edge_damage.len() != ne {
+            return Err(RestoreError::Invalid(format!(
+                "per-edge arrays have {} and {} entries, the mesh has {ne} edges",
+                saved.edge_rest_angle_rad.len(),
+                saved.edge_damage.len()
+            )));
         }
-        for (i, p) in saved.positions_m.iter().enumerate() {
-            if !p.iter().all(|c| c.is_finite() && c.abs() < 100.0) {
-                return Err(RestoreError::BadPosition(i));
+        let mut sim = Self::with_sheet(cfg, sheet);
+        {
+            let sp = &mut sim.sheet.sp;
+            for (i, p) in saved.positions_m.iter().enumerate() {
+                sp.pos[i] = V3::new(p[0], p[1], p[2]);
+            }
+            for (i, v) in saved.velocities_m_s.iter().enumerate() {
+                sp.vel[i] = V3::new(v[0], v[1], v[2]);
+            }
+            sp.edge_rest_angle.copy_from_slice(&saved.edge_rest_angle_rad);
+            sp.edge_damage.copy_from_slice(&saved.edge_damage);
+            sp.singular.clone_from(&saved.singular_vertices);
+        }
+        sim.sheet.sg.pull_positions(&sim.sheet.sp);
+        sim.rng = saved.rng.clone();
+        sim.frame = saved.frame;
+        sim.asleep = saved.asleep;
+        sim.quiet_frames = saved.quiet_frames;
+        for (k, p) in sim.obstacles.planes.iter_mut().enumerate() {
+            if p.active && saved.obstacle_active[k] {
+                p.offset_m = saved.obstacle_offsets_m[k];
+            } else if p.active {
+                // Present now but not in the saved room: ease in from outside the sheet.
+                p.active = false;
             }
         }
-        sim.pos.clone_from(&saved.positions_m);
-        sim.frame = saved.frame;
+        let room = sim.cfg.room;
+        sim.obstacles.set_room(&room, &sim.sheet.sp.pos);
+        sim.rig.state = saved.rig.clone();
+        sim.rig
+            .restore_ownership(saved.rig_suppressed, saved.rig_ownership_pending, &sim.sheet.sp.pos);
+        sim.metrics.reset_normals(&sim.sheet.sp);
+        sim.update_contacts();
+        sim.last_metrics = sim.metrics.compute(&sim.sheet.sp);
         Ok(sim)
     }
+}
+
+/// The largest (vertices, triangles) over all sheet sizes at the configured density, × 2.
+fn mesh_capacity_for(cfg: &SimConfig) -> (usize, usize) {
+    let mut best = (0, 0);
+    for size in SheetSize::ALL {
+        let (w, l) = size.dims_m();
+        let p = lattice(w, l, cfg.mesh.spacing_m(size));
+        best.0 = best.0.max(p.points.len());
+        best.1 = best.1.max(p.triangles.len());
+    }
+    (2 * best.0, 2 * best.1)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::control::GrabSlot;
 
     #[test]
     fn held_front_edge_follows_lift() {
@@ -436,6 +644,39 @@ mod tests {
         sim.write_mesh(&mut m);
         let zmax = m.positions_m.iter().map(|p| p[2]).fold(f32::MIN, f32::max);
         assert!(zmax > 0.75 + 0.1, "front edge lifted: {zmax}");
+        assert_eq!(out.stats.num_flipped, 0);
+        assert_eq!(out.stats.recoveries, 0);
+        assert!(m.tags.iter().any(|t| *t == VertexTag::Handle));
+    }
+
+    #[test]
+    fn dropped_sheet_falls_to_the_floor_and_sleeps() {
+        let cfg = SimConfig {
+            room: RoomConfig {
+                table: false,
+                table_height_cm: 40.0,
+                ..RoomConfig::default()
+            },
+            size: SheetSize::A6,
+            ..SimConfig::default()
+        };
+        let mut sim = Sim::new(cfg);
+        assert!(!sim.is_asleep());
+        let mut out = FrameOutput::default();
+        let mut frames = 0;
+        while !sim.is_asleep() && frames < 2000 {
+            sim.step(&mut out);
+            frames += 1;
+        }
+        assert!(sim.is_asleep(), "asleep after {frames} frames");
+        let zmax = sim.sheet().sp.pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        assert!(zmax < 0.02, "on the floor: {zmax}");
+        assert!(sim.contacts().iter().filter(|c| c.in_contact).count() > 10);
+        assert!(
+            sim.contacts()
+                .iter()
+                .all(|c| !c.in_contact || c.obstacle == crate::sound_input::Obstacle::Floor)
+        );
     }
 
     #[test]

@@ -1,0 +1,423 @@
+//! # Friction noise: weighted spectra → one random-phase inverse FFT → overlap-add
+//!
+//! The seeds synthesize friction from averaged magnitude spectra (T 1822–1830,
+//! `000_cb4d91e46ec5927f.txt`; S 149–153, `002_9b4a8fc30aee6402.txt`; digest-sound §4.2):
+//!
+//! ```text
+//! S(ω) = Σ_sources amp · |H_spatial(ω)| · DB_spectrum(ω)        (summed BEFORE the iFFT, T 1830)
+//! v_k  = S_k · e^{iφ_k},  φ_k ~ U[−π, π] fresh per frame          (T 1826)
+//! x    = iFFT(v),  frames of M samples overlapped by M/2           (T 1830, T 1903)
+//! ```
+//!
+//! Our implementation (choices for what the seeds leave open, digest §4.2 notes 1–5):
+//!
+//! - **Magnitudes** (not powers), as S 149 says and v_k = s_k e^{iφ} implies.
+//! - **Real output**: a real inverse FFT of size M (`realfft`) on M/2 + 1 bins; DC and Nyquist
+//!   bins are 0 (they must be real). M = 2048 and hop 1024 at 44.1 kHz (T 1903); at other rates
+//!   M = `sounddb::friction_frame_len` (a power of two keeping the frame ≈ 46 ms: 48 kHz → 2048,
+//!   96 kHz → 4096, 192 kHz → 8192, 8 kHz → 512). The database spectra are moved onto these bins
+//!   and scaled at load time (`sounddb::prepared`), never here.
+//! - **Window**: successive frames are independent noise, so the overlap uses the
+//!   power-complementary sine window w(n) = sin(π(n + ½)/M): w²(n) + w²(n + M/2) = 1, the
+//!   variance is constant across the overlap (a Hann window would dip 3 dB mid-overlap, a 43 Hz
+//!   flutter). The frame's circular wrap is inside the window's tails.
+//! - **Amplitude** of a source: its slip speed relative to the recording speed (10 cm/s, T 1909;
+//!   S 153: linear in the relative speed) — folded into the prepared spectra.
+//! - **Spatialization**: |H(ω)| of eq. 4.12 per source and per ear ([`super::dipole`]); without
+//!   reflectors H is the scalar |g0| and no per-bin work is done (§11.1).
+//! - **Stereo**: one magnitude sum per ear, **the same random phases** for both ears (the channels
+//!   stay correlated as one source heard twice), two inverse FFTs per hop.
+//! - **Timing and interpolation**: frame j starts at sample j·hop (absolute, since `reset`) and
+//!   uses the *time-weighted mean* of the sources over the previous hop: each `set_frame` closes
+//!   the segment of the previous frame's sources, weighted by its duration / hop. A frame rate
+//!   above the hop rate (200 Hz vs 43 Hz) is thus averaged, not sampled, and the OLA crossfade
+//!   interpolates between hops. Latency: ≤ 1 hop (23 ms) from a `set_frame` to the first sample of
+//!   friction it causes (test 4); the seeds' frame is 46 ms.
+//! - **Merging** (§11.4–11.5): within a hop, sources of the same cell at the same place (centre
+//!   within 5 mm, normal within 0.05, radius within 5 %) share one entry (amplitudes summed).
+//!   With [`super::RenderOptions::merge`] and no reflectors, entries of one cell are also summed
+//!   into one weight before touching the bins.
+//! - **Skips** (§11.2): a hop without sources runs no iFFT; the second half of the last frame
+//!   still plays (the tail), then the generator goes silent and costs nothing.
+//!
+//! Because frames start at absolute sample positions and depend only on the inputs received
+//! before them, the output does not depend on how `render()` calls are split.
+
+use std::sync::Arc;
+
+use realfft::num_complex::Complex;
+use realfft::{ComplexToReal, RealFftPlanner};
+use sim_core::room::Plane;
+use sim_core::sound_input::{FrictionSource, MAX_FRICTION_SOURCES, Resonator};
+use sounddb::{CellId, SoundDb};
+
+use super::RenderOptions;
+use super::counters::RenderCounters;
+use super::dipole::{EarPaths, Path, resonator_paths, size_factor};
+use super::ears::Ears;
+use super::rng::NoiseRng;
+
+/// Most distinct (cell, place) entries per hop.
+pub const MAX_ENTRIES: usize = 64;
+/// Size of the random phase table (phases quantised to 2π/4096).
+const PHASE_TABLE: usize = 4096;
+/// Slip speeds below this are silence, m/s.
+pub const MIN_SLIP_SPEED_M_S: f32 = 1e-6;
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Source {
+    cell: u16,
+    amp: f32,
+    res: Resonator,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Entry {
+    cell: u16,
+    /// Σ amplitude × duration (samples).
+    weight: f32,
+    res: Resonator,
+}
+
+fn same_place(a: &Resonator, b: &Resonator) -> bool {
+    let d2: f32 = (0..3)
+        .map(|i| (a.centre_m[i] - b.centre_m[i]).powi(2))
+        .sum();
+    let n2: f32 = (0..3).map(|i| (a.normal[i] - b.normal[i]).powi(2)).sum();
+    let r = (a.radius_m - b.radius_m).abs() <= 0.05 * a.radius_m.abs().max(b.radius_m.abs());
+    d2 <= 0.005 * 0.005 && n2 <= 0.05 * 0.05 && r
+}
+
+/// The friction generator.
+pub struct Friction {
+    m: usize,
+    hop: usize,
+    bins: usize,
+    sample_rate_hz: f64,
+    window: Vec<f32>,
+    ifft: Arc<dyn ComplexToReal<f32>>,
+    fft_scratch: Vec<Complex<f32>>,
+    spec: [Vec<Complex<f32>>; 2],
+    frame: Vec<f32>,
+    mag: [Vec<f32>; 2],
+    /// Output for the next M samples, per ear.
+    pending: [Vec<f32>; 2],
+    /// Samples output in the current hop (0 … hop).
+    hop_pos: usize,
+    /// Hops of non-zero output left in `pending`.
+    live_hops: u8,
+    phase_table: Vec<(f32, f32)>,
+    rng: NoiseRng,
+    seed: u64,
+    current: [Source; MAX_FRICTION_SOURCES],
+    num_current: usize,
+    seg_start: usize,
+    entries: [Entry; MAX_ENTRIES],
+    num_entries: usize,
+    /// Per-cell merged weights for the no-reflector path.
+    cell_weight: [Vec<f32>; 2],
+}
+
+impl Friction {
+    /// Allocates the generator for a sample rate (plans the FFT).
+    pub fn new(sample_rate_hz: f64, seed: u64) -> Self {
+        let m = sounddb::friction_frame_len(sample_rate_hz);
+        let hop = m / 2;
+        let bins = m / 2 + 1;
+        let ifft = RealFftPlanner::<f32>::new().plan_fft_inverse(m);
+        let window = (0..m)
+            .map(|n| (std::f64::consts::PI * (n as f64 + 0.5) / m as f64).sin() as f32)
+            .collect();
+        let phase_table = (0..PHASE_TABLE)
+            .map(|i| {
+                let p = 2.0 * std::f64::consts::PI * i as f64 / PHASE_TABLE as f64;
+                (p.cos() as f32, p.sin() as f32)
+            })
+            .collect();
+        Self {
+            m,
+            hop,
+            bins,
+            sample_rate_hz,
+            window,
+            fft_scratch: ifft.make_scratch_vec(),
+            spec: [ifft.make_input_vec(), ifft.make_input_vec()],
+            frame: ifft.make_output_vec(),
+            ifft,
+            mag: [vec![0.0; bins], vec![0.0; bins]],
+            pending: [vec![0.0; m], vec![0.0; m]],
+            hop_pos: 0,
+            live_hops: 0,
+            phase_table,
+            rng: NoiseRng::new(seed, 2),
+            seed,
+            current: [Source::default(); MAX_FRICTION_SOURCES],
+            num_current: 0,
+            seg_start: 0,
+            entries: [Entry::default(); MAX_ENTRIES],
+            num_entries: 0,
+            cell_weight: [vec![0.0; sounddb::MAX_CELLS], vec![0.0; sounddb::MAX_CELLS]],
+        }
+    }
+
+    /// Frame length M.
+    pub fn frame_len(&self) -> usize {
+        self.m
+    }
+
+    /// Hop M/2.
+    pub fn hop(&self) -> usize {
+        self.hop
+    }
+
+    /// Clears everything and reseeds. No allocation.
+    pub fn reset(&mut self) {
+        for p in &mut self.pending {
+            p.fill(0.0);
+        }
+        self.hop_pos = 0;
+        self.live_hops = 0;
+        self.rng = NoiseRng::new(self.seed, 2);
+        self.num_current = 0;
+        self.seg_start = 0;
+        self.num_entries = 0;
+    }
+
+    /// Forgets sources and entries (their cells belong to a database being swapped out); the
+    /// tail already synthesized keeps playing.
+    pub fn clear_sources(&mut self) {
+        self.num_current = 0;
+        self.num_entries = 0;
+        self.seg_start = self.hop_pos;
+    }
+
+    /// The sources of a new simulation frame (closing the previous frame's segment).
+    pub fn set_sources(
+        &mut self,
+        sources: &[FrictionSource],
+        db: &SoundDb,
+        counters: &mut RenderCounters,
+    ) {
+        let upto = self.hop_pos;
+        self.flush(upto, counters);
+        self.num_current = 0;
+        for s in sources.iter().take(MAX_FRICTION_SOURCES) {
+            let v = s.slip_speed_m_s.abs();
+            if !v.is_finite() || v < MIN_SLIP_SPEED_M_S {
+                continue;
+            }
+            let Some(cell) = db.friction_lookup(s.resonator.lr_cm, s.resonator.lc_cm) else {
+                counters.friction_sources_without_spectrum += 1;
+                continue;
+            };
+            self.current[self.num_current] = Source {
+                cell: cell.0,
+                amp: v.min(10.0) / sounddb::REFERENCE_SLIDE_SPEED_M_S,
+                res: s.resonator,
+            };
+            self.num_current += 1;
+        }
+    }
+
+    /// Adds the current sources' contribution from `seg_start` to `upto` into the entries.
+    fn flush(&mut self, upto: usize, counters: &mut RenderCounters) {
+        let dur = upto.saturating_sub(self.seg_start) as f32;
+        self.seg_start = upto;
+        if dur <= 0.0 {
+            return;
+        }
+        for s in &self.current[..self.num_current] {
+            let w = s.amp * dur;
+            if let Some(e) = self.entries[..self.num_entries]
+                .iter_mut()
+                .find(|e| e.cell == s.cell && same_place(&e.res, &s.res))
+            {
+                e.weight += w;
+                counters.friction_sources_merged += 1;
+            } else if self.num_entries < MAX_ENTRIES {
+                self.entries[self.num_entries] = Entry {
+                    cell: s.cell,
+                    weight: w,
+                    res: s.res,
+                };
+                self.num_entries += 1;
+            } else {
+                counters.friction_sources_dropped += 1;
+            }
+        }
+    }
+
+    /// True when nothing is playing and nothing is pending.
+    pub fn is_silent(&self) -> bool {
+        self.live_hops == 0 && self.num_current == 0 && self.num_entries == 0
+    }
+
+    /// Renders `out_l.len()` samples (overwrites).
+    pub fn render(
+        &mut self,
+        db: &SoundDb,
+        ears: &Ears,
+        reflectors: &[Plane],
+        opts: &RenderOptions,
+        out_l: &mut [f32],
+        out_r: &mut [f32],
+        counters: &mut RenderCounters,
+    ) {
+        let n = out_l.len().min(out_r.len());
+        let mut done = 0;
+        while done < n {
+            if self.hop_pos == self.hop {
+                self.boundary(db, ears, reflectors, opts, counters);
+            }
+            let m = (n - done).min(self.hop - self.hop_pos);
+            let (dl, dr) = (&mut out_l[done..done + m], &mut out_r[done..done + m]);
+            if self.live_hops == 0 && opts.skip_silent_friction {
+                dl.fill(0.0);
+                dr.fill(0.0);
+                counters.friction_samples_silent += m as u64;
+            } else {
+                dl.copy_from_slice(&self.pending[0][self.hop_pos..self.hop_pos + m]);
+                dr.copy_from_slice(&self.pending[1][self.hop_pos..self.hop_pos + m]);
+            }
+            self.hop_pos += m;
+            done += m;
+        }
+    }
+
+    /// A hop boundary: shift the OLA buffers and add the next frame.
+    fn boundary(
+        &mut self,
+        db: &SoundDb,
+        ears: &Ears,
+        reflectors: &[Plane],
+        opts: &RenderOptions,
+        counters: &mut RenderCounters,
+    ) {
+        counters.friction_hops += 1;
+        let hop = self.hop;
+        self.flush(hop, counters);
+        self.seg_start = 0;
+        self.hop_pos = 0;
+        if self.live_hops > 0 || !opts.skip_silent_friction {
+            for p in &mut self.pending {
+                p.copy_within(hop.., 0);
+                p[hop..].fill(0.0);
+            }
+            self.live_hops = self.live_hops.saturating_sub(1);
+        }
+        let active = self.num_entries > 0
+            && db.matches_rate(self.sample_rate_hz)
+            && !db.friction_cells().is_empty();
+        if !active && opts.skip_silent_friction {
+            self.num_entries = 0;
+            counters.friction_hops_skipped += 1;
+            return;
+        }
+        self.build_magnitudes(db, ears, reflectors, opts, counters);
+        self.num_entries = 0;
+        // Random phases shared by both ears; DC and Nyquist stay real (0).
+        for j in 0..self.bins {
+            let (c, s) = if j == 0 || j == self.bins - 1 {
+                (0.0, 0.0)
+            } else {
+                self.phase_table[(self.rng.next_u32() >> 20) as usize]
+            };
+            for e in 0..2 {
+                let a = self.mag[e][j];
+                self.spec[e][j] = Complex::new(a * c, a * s);
+            }
+        }
+        for e in 0..2 {
+            // Lengths come from the plan; the first and last bins are real: cannot fail.
+            let _ = self.ifft.process_with_scratch(
+                &mut self.spec[e],
+                &mut self.frame,
+                &mut self.fft_scratch,
+            );
+            for ((p, x), w) in self.pending[e]
+                .iter_mut()
+                .zip(&self.frame)
+                .zip(&self.window)
+            {
+                *p += x * w;
+            }
+            counters.friction_ffts += 1;
+        }
+        self.live_hops = 2;
+    }
+
+    fn build_magnitudes(
+        &mut self,
+        db: &SoundDb,
+        ears: &Ears,
+        reflectors: &[Plane],
+        opts: &RenderOptions,
+        counters: &mut RenderCounters,
+    ) {
+        for m in &mut self.mag {
+            m.fill(0.0);
+        }
+        if self.num_entries == 0 || !db.matches_rate(self.sample_rate_hz) {
+            return;
+        }
+        let inv_hop = 1.0 / self.hop as f32;
+        let d_omega = 2.0 * std::f64::consts::PI * self.sample_rate_hz / self.m as f64;
+        let merge_cells = opts.merge && reflectors.is_empty() && !opts.force_image_path;
+        if merge_cells {
+            for w in &mut self.cell_weight {
+                w.fill(0.0);
+            }
+        }
+        let cells = db.friction_cells();
+        for e in &self.entries[..self.num_entries] {
+            let cell = cells[e.cell as usize];
+            let strength = f64::from(e.weight * inv_hop)
+                * size_factor(e.res.radius_m, cell.reference_radius_m);
+            let spectrum = db.friction_spectrum(CellId(e.cell));
+            for ear in 0..2 {
+                let mut paths: EarPaths = resonator_paths(
+                    &e.res,
+                    strength,
+                    ears.ear_m[ear],
+                    reflectors,
+                    opts.cos_floor,
+                );
+                if opts.force_image_path && paths.num_images == 0 {
+                    paths.images[0] = Path {
+                        gain: 0.0,
+                        delay_s: paths.direct.delay_s,
+                    };
+                    paths.num_images = 1;
+                }
+                if paths.num_images > 0 {
+                    counters.friction_comb_bins += super::dipole::accumulate_comb(
+                        &paths,
+                        1.0,
+                        d_omega,
+                        spectrum,
+                        &mut self.mag[ear],
+                    );
+                } else if merge_cells {
+                    self.cell_weight[ear][e.cell as usize] += paths.direct.gain.abs() as f32;
+                } else {
+                    let g = paths.direct.gain.abs() as f32;
+                    for (a, s) in self.mag[ear].iter_mut().zip(spectrum) {
+                        *a += g * s;
+                    }
+                }
+            }
+        }
+        if merge_cells {
+            for ear in 0..2 {
+                for (c, &w) in self.cell_weight[ear].iter().enumerate().take(cells.len()) {
+                    if w != 0.0 {
+                        let spectrum = db.friction_spectrum(CellId(c as u16));
+                        for (a, s) in self.mag[ear].iter_mut().zip(spectrum) {
+                            *a += w * s;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

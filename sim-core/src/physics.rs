@@ -1,0 +1,329 @@
+//! # The physics step on S_P
+//!
+//! Step (b) of the seeds' frame loop (Fig. 16 / Fig. 2.3; digest-crumpling §2.1, §3.0): "a
+//! standard physical-based simulation … Green strain computation for stretching forces …
+//! discrete flexural energy [for bending] … implicit integration" (T 712, P 435–441), with the
+//! handles as hard constraints (T 714, P 448–450). The seeds give neither the time step nor the
+//! stiffness; they require "medium" stiffness (P 88–91) — see [`crate::material`] for the
+//! constants and their scaling.
+//!
+//! ## Model
+//!
+//! Backward Euler written as the minimization of the incremental potential (Martin et al.
+//! 2011, Gast et al. 2015): over one substep of length h, the new positions minimize
+//!
+//! ```text
+//! E(x) = Σ_i ½ (m_i/h²) |x_i − x̂_i|² − m_i g·x_i                  inertia + gravity, x̂ = x_n + h v_n
+//!      + Σ_t W_t(x) + D_t(x)                                      membrane: StVK + strain-rate damping
+//!      + Σ_e W_e(x) + D_e(x)                                      hinges: bending (rest angle, damage) + damping
+//!      + Σ_i ½ (m_i/h) (α_n ((x_i − x_i,n)·n_i)² + α_t |x_i − x_i,n|²)   air drag (normal ≫ tangential)
+//!      + Σ_i E_contact,i(x) + μ λ_i f₀(|P_T(x_i − x_i,n)|)         obstacles + lagged Coulomb friction
+//! ```
+//!
+//! subject to `x_k = target_k` for the kinematic vertices (handles and their tangent-plane
+//! neighbours, [`crate::handles`]). Then `v = (x − x_n)/h`. Every term is a potential, so a line
+//! search on E makes each Newton step a descent step: large handle motions cannot blow up the
+//! integration. Dissipation potentials (damping, drag, friction) are centred on the state at
+//! the start of the substep.
+//!
+//! ## Solvers
+//!
+//! - [`newton`]: Newton's method on E with a sparse Cholesky solve (faer) of the PSD-projected
+//!   Hessian and a backtracking line search;
+//! - [`xpbd`]: extended position-based dynamics (Macklin et al. 2016, 2019: small steps, one
+//!   iteration) on the same mesh, material and obstacles, for comparison.
+//!
+//! The benchmark report (`cargo xtask bench-report`, `docs/benchmarks.md`) measures both on the
+//! scenario library (run time per frame against the length error c_mean / n_comp);
+//! [`SolverConfig::default`] records the decision.
+
+pub mod bending;
+pub mod membrane;
+pub mod newton;
+pub mod sparse;
+pub mod xpbd;
+
+use crate::collision::{CONTACT_SKIN_M, LaggedContact, Obstacles, penalty_stiffness};
+use crate::material::PaperMaterial;
+use crate::math::{M2, V3};
+use crate::sheet::physical::PhysMesh;
+use membrane::MembraneParams;
+
+/// Which integrator runs the physics step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SolverKind {
+    /// Backward Euler, Newton + sparse Cholesky (the seeds' "implicit integration").
+    #[default]
+    Newton,
+    /// XPBD with substeps.
+    Xpbd,
+}
+
+/// Numerical parameters of the physics step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverConfig {
+    /// Integrator.
+    pub kind: SolverKind,
+    /// Substeps per frame (time step = frame / substeps).
+    pub substeps: u32,
+    /// Newton: maximal iterations per substep. XPBD: constraint iterations per substep.
+    pub iterations: u32,
+    /// Newton: stop when the largest vertex update is below this, metres.
+    pub tolerance_m: f64,
+    /// Multiplier of the material's stretching stiffness k_s (the "medium stiffness" scaling,
+    /// see [`crate::material`]).
+    pub stretch_scale: f64,
+    /// Strain-rate (membrane) damping time τ_s, seconds.
+    pub membrane_damping_s: f64,
+    /// Bending-rate damping time τ_b, seconds.
+    pub bending_damping_s: f64,
+    /// Air drag rate against motion along the surface normal, 1/s.
+    pub drag_normal_per_s: f64,
+    /// Air drag rate against any motion, 1/s.
+    pub drag_per_s: f64,
+}
+
+impl Default for SolverConfig {
+    /// The default is the solver and parameters chosen by the benchmark (see
+    /// `docs/benchmarks.md`, sim-report section).
+    fn default() -> Self {
+        Self {
+            kind: SolverKind::Newton,
+            substeps: 1,
+            iterations: 3,
+            tolerance_m: 1e-6,
+            stretch_scale: 0.01,
+            membrane_damping_s: 2e-4,
+            bending_damping_s: 1e-3,
+            drag_normal_per_s: 6.0,
+            drag_per_s: 0.3,
+        }
+    }
+}
+
+impl SolverConfig {
+    /// Largest accepted substep count.
+    pub const MAX_SUBSTEPS: u32 = 256;
+    /// Largest accepted iteration count.
+    pub const MAX_ITERATIONS: u32 = 100;
+
+    /// Returns a copy with every value finite and in range.
+    pub fn sanitized(self) -> Self {
+        let d = Self::default();
+        let pos = |v: f64, dflt: f64, lo: f64, hi: f64| {
+            if v.is_finite() { v.clamp(lo, hi) } else { dflt }
+        };
+        Self {
+            kind: self.kind,
+            substeps: self.substeps.clamp(1, Self::MAX_SUBSTEPS),
+            iterations: self.iterations.clamp(1, Self::MAX_ITERATIONS),
+            tolerance_m: pos(self.tolerance_m, d.tolerance_m, 1e-12, 1e-2),
+            stretch_scale: pos(self.stretch_scale, d.stretch_scale, 1e-5, 1.0),
+            membrane_damping_s: pos(self.membrane_damping_s, d.membrane_damping_s, 0.0, 1.0),
+            bending_damping_s: pos(self.bending_damping_s, d.bending_damping_s, 0.0, 1.0),
+            drag_normal_per_s: pos(self.drag_normal_per_s, d.drag_normal_per_s, 0.0, 1e3),
+            drag_per_s: pos(self.drag_per_s, d.drag_per_s, 0.0, 1e3),
+        }
+    }
+}
+
+/// Material and damping constants as the solvers use them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhysParams {
+    /// Membrane Lamé parameters (scaled k_s).
+    pub membrane: MembraneParams,
+    /// Bending stiffness B, N·m.
+    pub bending_n_m: f64,
+    /// Membrane damping time, s.
+    pub membrane_damping_s: f64,
+    /// Bending damping time, s.
+    pub bending_damping_s: f64,
+    /// Normal air drag, 1/s.
+    pub drag_normal_per_s: f64,
+    /// Isotropic air drag, 1/s.
+    pub drag_per_s: f64,
+    /// Friction coefficient.
+    pub friction_mu: f64,
+    /// Scaled stretching stiffness k_s, N/m.
+    pub stretch_n_m: f64,
+}
+
+impl PhysParams {
+    /// Constants for a material and solver configuration.
+    pub fn new(mat: &PaperMaterial, cfg: &SolverConfig) -> Self {
+        let k_s = mat.stretch_stiffness_n_m * cfg.stretch_scale;
+        let (lambda, mu) = mat.lame_n_m(k_s);
+        Self {
+            membrane: MembraneParams {
+                lambda_n_m: lambda,
+                mu_n_m: mu,
+            },
+            bending_n_m: mat.bending_stiffness_n_m,
+            membrane_damping_s: cfg.membrane_damping_s,
+            bending_damping_s: cfg.bending_damping_s,
+            drag_normal_per_s: cfg.drag_normal_per_s,
+            drag_per_s: cfg.drag_per_s,
+            friction_mu: mat.friction_mu,
+            stretch_n_m: k_s,
+        }
+    }
+}
+
+/// Kinematic (hard) constraints of one substep.
+#[derive(Clone, Copy, Debug)]
+pub struct Kinematics<'a> {
+    /// True for vertices whose position is prescribed.
+    pub fixed: &'a [bool],
+    /// Prescribed positions at the end of the substep (read for fixed vertices only).
+    pub target: &'a [V3],
+}
+
+/// What one substep reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SubstepReport {
+    /// Solver iterations done.
+    pub iterations: u32,
+    /// Line-search halvings (Newton).
+    pub halvings: u32,
+    /// True if the solver had to fall back (non-finite state, failed factorization).
+    pub recovered: bool,
+}
+
+/// State frozen at the start of a substep, shared by both solvers.
+#[derive(Clone, Debug, Default)]
+pub struct SubstepFrame {
+    /// Positions at the start of the substep.
+    pub x_n: Vec<V3>,
+    /// Velocities at the start of the substep.
+    pub v_n: Vec<V3>,
+    /// Area-weighted unit vertex normals.
+    pub normal: Vec<V3>,
+    /// Green strain per triangle.
+    pub strain: Vec<M2>,
+    /// Dihedral angle per hinge.
+    pub theta: Vec<f64>,
+    /// Lagged contact per vertex.
+    pub contact: Vec<LaggedContact>,
+}
+
+impl SubstepFrame {
+    /// Storage for a mesh.
+    pub fn new(mesh: &PhysMesh) -> Self {
+        let n = mesh.num_vertices();
+        Self {
+            x_n: vec![V3::zeros(); n],
+            v_n: vec![V3::zeros(); n],
+            normal: vec![V3::zeros(); n],
+            strain: vec![M2::zeros(); mesh.num_triangles()],
+            theta: vec![0.0; mesh.hinges.len()],
+            contact: vec![LaggedContact::default(); n],
+        }
+    }
+
+    /// Freezes the start-of-substep state.
+    pub fn capture(&mut self, mesh: &PhysMesh, obstacles: &Obstacles) {
+        self.x_n.copy_from_slice(&mesh.pos);
+        self.v_n.copy_from_slice(&mesh.vel);
+        for n in &mut self.normal {
+            *n = V3::zeros();
+        }
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            let x = tri.map(|i| mesh.pos[i as usize]);
+            let n = (x[1] - x[0]).cross(&(x[2] - x[0]));
+            for &i in tri {
+                self.normal[i as usize] += n;
+            }
+            self.strain[t] = membrane::green_strain(x, &mesh.tri_rest[t]).0;
+        }
+        for n in &mut self.normal {
+            let l = n.norm();
+            *n = if l > 0.0 { *n / l } else { V3::z() };
+        }
+        for (k, h) in mesh.hinges.iter().enumerate() {
+            self.theta[k] = bending::dihedral(&h.v.map(|i| mesh.pos[i as usize]));
+        }
+        for (i, c) in self.contact.iter_mut().enumerate() {
+            *c = LaggedContact {
+                plane: u8::MAX,
+                lambda_n: 0.0,
+            };
+            let x = &mesh.pos[i];
+            let mut best = 0.0;
+            for (pi, pl) in obstacles.planes.iter().enumerate() {
+                if !pl.active {
+                    continue;
+                }
+                let pen = CONTACT_SKIN_M - pl.distance(x);
+                if pen > best {
+                    best = pen;
+                    c.plane = pi as u8;
+                    c.lambda_n = penalty_stiffness(mesh.mass_kg[i]) * pen;
+                }
+            }
+        }
+    }
+}
+
+/// The physics engine of one mesh: both solvers' workspaces.
+#[derive(Debug)]
+pub struct Physics {
+    frame: SubstepFrame,
+    newton: newton::NewtonSolver,
+    xpbd: xpbd::XpbdSolver,
+    /// Substeps integrated since creation (the work counter: it does not move while the
+    /// sheet sleeps).
+    pub substeps_done: u64,
+}
+
+impl Physics {
+    /// Workspaces for a mesh (allocates; everything later reuses them).
+    pub fn new(mesh: &PhysMesh) -> Self {
+        Self {
+            frame: SubstepFrame::new(mesh),
+            newton: newton::NewtonSolver::new(mesh),
+            xpbd: xpbd::XpbdSolver::new(mesh),
+            substeps_done: 0,
+        }
+    }
+
+    /// Number of sparse factorizations done by the Newton solver.
+    pub fn factorizations(&self) -> u64 {
+        self.newton.factorizations()
+    }
+
+    /// Advances the mesh by one substep of `h_s` seconds.
+    pub fn substep(
+        &mut self,
+        mesh: &mut PhysMesh,
+        kin: Kinematics<'_>,
+        obstacles: &Obstacles,
+        params: &PhysParams,
+        cfg: &SolverConfig,
+        h_s: f64,
+    ) -> SubstepReport {
+        self.substeps_done += 1;
+        self.frame.capture(mesh, obstacles);
+        let report = match cfg.kind {
+            SolverKind::Newton => self
+                .newton
+                .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s),
+            SolverKind::Xpbd => self
+                .xpbd
+                .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s),
+        };
+        // Last line of defence: a non-finite state is replaced by the start of the substep,
+        // at rest (never observed in the stress tests; counted if it happens).
+        let bad = mesh.pos.iter().chain(&mesh.vel).any(|v| !crate::math::finite3(v));
+        if bad {
+            mesh.pos.copy_from_slice(&self.frame.x_n);
+            for v in &mut mesh.vel {
+                *v = V3::zeros();
+            }
+            return SubstepReport {
+                recovered: true,
+                ..report
+            };
+        }
+        report
+    }
+}

@@ -1,0 +1,245 @@
+//! # S_P: the physical (simulation and display) mesh
+//!
+//! S_P is "S_G enriched with extra vertices so that a standard FEM thin-shell simulator can bend
+//! it" (P 459–487, T 734–744; digest-crumpling §1.2, §2.2). It carries, per vertex, the 2D
+//! pattern position x̄ (rest state), the 3D position x and velocity v and a lumped mass; per
+//! triangle the inverse pattern edge matrix Ū⁻¹ and the pattern area (for the Green strain,
+//! T 341–355); per edge the pattern length, the **rest dihedral angle** θ̄_e and the **damage**
+//! d_e of the fibre-damage model (P eq. 1 at P 504–519; T eq. 2.1–2.2 at T 753–775: the hinge
+//! stiffness becomes `k_b / (1 + d_e)`); and per interior edge a **hinge** (the 4-vertex stencil
+//! of the discrete bending energy, T 357–361).
+//!
+//! All arrays are sized once when the mesh is built; stepping only writes into them. The
+//! geometry layer of the next issue regenerates S_P from S_G (§2.2); it will rebuild this
+//! structure, which is allowed to allocate (a connectivity change is not a steady-state step).
+
+use crate::math::{M2, V2, V3};
+use crate::sheet::pattern::{Pattern, signed_area};
+use crate::sheet::topology::{NONE, Topology, TopologyError};
+
+/// Rest data of one triangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriRest {
+    /// Inverse of the pattern edge matrix Ū = [x̄₁−x̄₀, x̄₂−x̄₀] (1/m).
+    pub dm_inv: M2,
+    /// Pattern area Ā, m².
+    pub area_m2: f64,
+}
+
+/// The bending stencil of one interior edge.
+///
+/// `v = [x0, x1, x2, x3]`: the edge runs x0 → x1 in face A = (x0, x1, x2) (counter-clockwise);
+/// x3 is the wing vertex of face B.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hinge {
+    /// Edge index.
+    pub edge: u32,
+    /// Vertex stencil.
+    pub v: [u32; 4],
+    /// Geometric weight `|ē|² / (Ā_A + Ā_B)` (dimensionless); the hinge stiffness is
+    /// `B·weight / (2 (1 + d_e))`.
+    pub weight: f64,
+}
+
+/// The physical mesh S_P.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhysMesh {
+    /// Pattern positions x̄, metres, origin at the sheet centre.
+    pub pattern: Vec<V2>,
+    /// 3D positions x, world metres.
+    pub pos: Vec<V3>,
+    /// Velocities, m/s.
+    pub vel: Vec<V3>,
+    /// Lumped pattern area per vertex, m².
+    pub vertex_area_m2: Vec<f64>,
+    /// Lumped mass per vertex, kg (ρ × lumped area).
+    pub mass_kg: Vec<f64>,
+    /// Triangles, counter-clockwise in the pattern.
+    pub triangles: Vec<[u32; 3]>,
+    /// Topology of `triangles`.
+    pub topo: Topology,
+    /// Rest data per triangle.
+    pub tri_rest: Vec<TriRest>,
+    /// Pattern length per edge, metres.
+    pub edge_rest_len_m: Vec<f64>,
+    /// Rest dihedral angle θ̄_e per edge, radians (0 = flat; set around singular vertices).
+    pub edge_rest_angle: Vec<f64>,
+    /// Fibre damage d_e per edge (≥ 0; bending stiffness is divided by 1 + d_e).
+    pub edge_damage: Vec<f64>,
+    /// Hinges (interior edges).
+    pub hinges: Vec<Hinge>,
+    /// Hinge index of each edge, [`NONE`] for boundary edges.
+    pub edge_hinge: Vec<u32>,
+    /// Persistent interior singular vertices (d-cone apices), in creation order.
+    pub singular: Vec<u32>,
+}
+
+/// Why a pattern cannot become a simulation mesh.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum MeshError {
+    /// The triangle list is not a valid manifold mesh.
+    #[error("invalid topology: {0}")]
+    Topology(#[from] TopologyError),
+    /// A pattern triangle has (nearly) zero or negative area.
+    #[error("pattern triangle {0} is degenerate or clockwise")]
+    DegenerateTriangle(u32),
+    /// A pattern coordinate is not finite.
+    #[error("pattern vertex {0} is not finite")]
+    NonFinite(u32),
+}
+
+impl PhysMesh {
+    /// Builds S_P from a pattern, placed flat at height `z_m`, at rest, undamaged.
+    pub fn from_pattern(p: &Pattern, z_m: f64, areal_density_kg_m2: f64) -> Result<Self, MeshError> {
+        for (i, q) in p.points.iter().enumerate() {
+            if !(q.x.is_finite() && q.y.is_finite()) {
+                return Err(MeshError::NonFinite(i as u32));
+            }
+        }
+        let topo = Topology::build(p.points.len(), &p.triangles)?;
+        let n = p.points.len();
+        let mut tri_rest = Vec::with_capacity(p.triangles.len());
+        let mut vertex_area = vec![0.0; n];
+        // Reference scale for the degeneracy test.
+        let (mut lo, mut hi) = (V2::repeat(f64::MAX), V2::repeat(f64::MIN));
+        for q in &p.points {
+            lo = lo.inf(q);
+            hi = hi.sup(q);
+        }
+        let scale2 = (hi - lo).norm_squared().max(1e-12);
+        for (t, tri) in p.triangles.iter().enumerate() {
+            let [a, b, c] = tri.map(|i| p.points[i as usize]);
+            let area = signed_area(a, b, c);
+            if !(area > 1e-10 * scale2) {
+                return Err(MeshError::DegenerateTriangle(t as u32));
+            }
+            let dm = M2::from_columns(&[b - a, c - a]);
+            let dm_inv = dm.try_inverse().ok_or(MeshError::DegenerateTriangle(t as u32))?;
+            tri_rest.push(TriRest {
+                dm_inv,
+                area_m2: area,
+            });
+            for &v in tri {
+                vertex_area[v as usize] += area / 3.0;
+            }
+        }
+        let edge_rest_len_m: Vec<f64> = topo
+            .edges
+            .iter()
+            .map(|e| (p.points[e.v[1] as usize] - p.points[e.v[0] as usize]).norm())
+            .collect();
+        let mut hinges = Vec::with_capacity(topo.edges.len());
+        let mut edge_hinge = vec![NONE; topo.edges.len()];
+        for (ei, e) in topo.edges.iter().enumerate() {
+            if e.is_boundary() {
+                continue;
+            }
+            let h0 = e.he[0];
+            let h1 = e.he[1];
+            let x0 = topo.half_edges[h0 as usize].origin;
+            let x1 = topo.dest(h0);
+            let x2 = topo.opposite(h0);
+            let x3 = topo.opposite(h1);
+            let fa = topo.half_edges[h0 as usize].face as usize;
+            let fb = topo.half_edges[h1 as usize].face as usize;
+            let l = edge_rest_len_m[ei];
+            edge_hinge[ei] = hinges.len() as u32;
+            hinges.push(Hinge {
+                edge: ei as u32,
+                v: [x0, x1, x2, x3],
+                weight: l * l / (tri_rest[fa].area_m2 + tri_rest[fb].area_m2),
+            });
+        }
+        let ne = topo.edges.len();
+        Ok(Self {
+            pos: p.points.iter().map(|q| V3::new(q.x, q.y, z_m)).collect(),
+            vel: vec![V3::zeros(); n],
+            mass_kg: vertex_area.iter().map(|a| a * areal_density_kg_m2).collect(),
+            vertex_area_m2: vertex_area,
+            pattern: p.points.clone(),
+            triangles: p.triangles.clone(),
+            topo,
+            tri_rest,
+            edge_rest_len_m,
+            edge_rest_angle: vec![0.0; ne],
+            edge_damage: vec![0.0; ne],
+            hinges,
+            edge_hinge,
+            singular: Vec::new(),
+        })
+    }
+
+    /// Number of vertices.
+    pub fn num_vertices(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// Number of triangles.
+    pub fn num_triangles(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Number of edges.
+    pub fn num_edges(&self) -> usize {
+        self.topo.edges.len()
+    }
+
+    /// Re-lumps the masses for a new areal density (no allocation).
+    pub fn set_areal_density(&mut self, areal_density_kg_m2: f64) {
+        for (m, a) in self.mass_kg.iter_mut().zip(&self.vertex_area_m2) {
+            *m = a * areal_density_kg_m2;
+        }
+    }
+
+    /// Total mass, kg.
+    pub fn total_mass_kg(&self) -> f64 {
+        self.mass_kg.iter().sum()
+    }
+
+    /// Current 3D length of edge `e`, metres.
+    pub fn edge_length_m(&self, e: usize) -> f64 {
+        let ed = &self.topo.edges[e];
+        (self.pos[ed.v[1] as usize] - self.pos[ed.v[0] as usize]).norm()
+    }
+
+    /// Unnormalised normal (twice the area) of triangle `t` in 3D.
+    pub fn tri_normal(&self, t: usize) -> V3 {
+        let [a, b, c] = self.triangles[t].map(|i| self.pos[i as usize]);
+        (b - a).cross(&(c - a))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sheet::pattern::lattice;
+
+    #[test]
+    fn masses_and_hinges_of_a4() {
+        let p = lattice(0.21, 0.297, 0.033);
+        let m = PhysMesh::from_pattern(&p, 0.75, 0.1).unwrap();
+        assert!((m.total_mass_kg() - 0.1 * 0.21 * 0.297).abs() < 1e-12);
+        let interior = m.topo.edges.iter().filter(|e| !e.is_boundary()).count();
+        assert_eq!(m.hinges.len(), interior);
+        // Every hinge: x0→x1 is an edge of face A, wings on opposite sides in the pattern.
+        for h in &m.hinges {
+            let [a, b, c, d] = h.v.map(|i| m.pattern[i as usize]);
+            assert!(signed_area(a, b, c) > 0.0);
+            assert!(signed_area(b, a, d) > 0.0);
+            assert!(h.weight > 0.0 && h.weight.is_finite());
+        }
+        assert_eq!(m.topo.euler_characteristic(), 1);
+    }
+
+    #[test]
+    fn degenerate_pattern_is_rejected() {
+        let p = Pattern {
+            points: vec![V2::new(0.0, 0.0), V2::new(1.0, 0.0), V2::new(2.0, 0.0)],
+            triangles: vec![[0, 1, 2]],
+        };
+        assert_eq!(
+            PhysMesh::from_pattern(&p, 0.0, 0.1).unwrap_err(),
+            MeshError::DegenerateTriangle(0)
+        );
+    }
+}

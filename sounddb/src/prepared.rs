@@ -1,0 +1,433 @@
+//! # A database prepared for one sample rate
+//!
+//! [`SoundDb`] is what a renderer holds (in an `Arc`): immutable, at the host rate, indexed for
+//! allocation-free lookups. Preparing it ([`SoundDb::prepare`]) allocates and may take a fraction
+//! of a second (resampling), so it runs off the audio thread — at plugin activation, on a loader
+//! thread, or in offline tools.
+//!
+//! What preparation does:
+//!
+//! - **Units** are resampled to the host rate ([`crate::resample`]), their trailing samples below
+//!   −90 dB of the unit's peak are trimmed (digest-sound §11.9: "free clac voices as soon as the
+//!   envelope is below −90 dB"), and they are stored as **16-bit integers with a per-unit scale**
+//!   (2 bytes/sample: the printer database takes ≈ 8 MB at 44.1 kHz instead of 16 MB as f32;
+//!   quantisation noise is 96 dB under each unit's peak). Each unit is surrounded by
+//!   [`UNIT_PAD`] zeros so that 4-tap fractional-delay reads need no bounds checks near its ends.
+//! - **Friction spectra** are moved onto the bins of the render path's real inverse FFT of size
+//!   M = [`friction_frame_len`] (M/2 + 1 bins at j·fs/M), as `sqrt(P_j / 2)` where P_j is the
+//!   power of the band (see [`crate::resample::spectrum_band_power`]). With random phases, the
+//!   un-normalised real iFFT then has per-sample variance 2·Σ_j |X_j|² = Σ_j P_j, i.e. exactly the
+//!   database's power spectral density, independent of M and fs. The DC and Nyquist bins are 0
+//!   (they must be real; friction has no content there). Each spectrum is divided by its slide
+//!   speed so that a source sliding at speed v is weighted v / v_recorded (S 153, T 1909).
+//!
+//! ## Friction frame length at other rates
+//!
+//! The seeds use M = 2048 samples (≈ 46 ms) with hop 1024 at 44.1 kHz (T 1903, T 1830). At other
+//! rates we keep the frame near 46 ms with a power of two:
+//! `M = 2^round(log2(fs · 2048 / 44100))`, clamped to [256, 16384]: 8 kHz → 512 (64 ms),
+//! 44.1/48 kHz → 2048 (46/43 ms), 88.2/96 kHz → 4096, 176.4/192 kHz → 8192. The hop is M/2.
+
+use crate::cell::{Cell, CellIndex};
+use crate::database::{Database, DbInfo};
+use crate::resample::{Resampler, spectrum_band_power};
+use crate::{DbError, Warning};
+
+/// Zeros stored before and after each prepared unit.
+pub const UNIT_PAD: usize = 4;
+
+/// Friction iFFT frame length M for a sample rate (see the module docs).
+pub fn friction_frame_len(sample_rate_hz: f64) -> usize {
+    let rate = if sample_rate_hz.is_finite() && sample_rate_hz > 0.0 {
+        sample_rate_hz
+    } else {
+        44_100.0
+    };
+    let exp = (rate * 2048.0 / 44_100.0).log2().round().clamp(8.0, 14.0);
+    1usize << (exp as u32)
+}
+
+/// Index of a cell in a prepared database (crumple or friction list).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CellId(pub u16);
+
+/// A crumple unit at the host rate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PreparedUnit {
+    /// Index in the PCM store of the first real sample ([`UNIT_PAD`] zeros precede it).
+    pub offset: usize,
+    /// Number of samples (after trimming).
+    pub len: usize,
+    /// f32 value = i16 value × scale.
+    pub scale: f32,
+    /// Peak absolute value (f32 units).
+    pub peak: f32,
+}
+
+/// A crumple cell and its variants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CrumpleCell {
+    /// The cell.
+    pub cell: Cell,
+    /// First unit of the cell in [`SoundDb::unit`] numbering.
+    pub first_unit: u32,
+    /// Number of variants.
+    pub num_units: u32,
+    /// Radius of the recorded sheet's equivalent disk (a_ref), metres; `None` for (0, 0).
+    pub reference_radius_m: Option<f32>,
+}
+
+/// A friction cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionCell {
+    /// The cell.
+    pub cell: Cell,
+    /// a_ref, metres; `None` for (0, 0).
+    pub reference_radius_m: Option<f32>,
+}
+
+/// Statistics of a preparation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PrepareStats {
+    /// Samples removed by the −90 dB tail trim.
+    pub trimmed_samples: usize,
+    /// Units whose rate was converted.
+    pub resampled_units: usize,
+}
+
+/// A database prepared for one sample rate (see the module docs).
+#[derive(Clone, Debug, Default)]
+pub struct SoundDb {
+    /// 0 for the empty database (usable at any rate).
+    sample_rate_hz: f64,
+    frame_len: usize,
+    info: DbInfo,
+    pcm: Vec<i16>,
+    units: Vec<PreparedUnit>,
+    crumple_cells: Vec<CrumpleCell>,
+    crumple_index: CellIndex,
+    friction_cells: Vec<FrictionCell>,
+    friction_index: CellIndex,
+    /// friction_cells.len() × bins, already scaled for the un-normalised real iFFT.
+    spectra: Vec<f32>,
+    stats: PrepareStats,
+}
+
+impl SoundDb {
+    /// A database with no units and no spectra (renders silence at any rate).
+    pub fn empty() -> Self {
+        Self::default()
+    }
+
+    /// Loads a database folder and prepares it for `sample_rate_hz` (allocates; off the audio
+    /// thread).
+    pub fn load(
+        dir: &std::path::Path,
+        sample_rate_hz: f64,
+    ) -> Result<(SoundDb, Vec<Warning>), DbError> {
+        let (db, warnings) = Database::load(dir)?;
+        Ok((Self::prepare(&db, sample_rate_hz), warnings))
+    }
+
+    /// Prepares `db` for `sample_rate_hz` (see the module docs).
+    pub fn prepare(db: &Database, sample_rate_hz: f64) -> SoundDb {
+        let rate = if sample_rate_hz.is_finite() && sample_rate_hz > 0.0 {
+            sample_rate_hz
+        } else {
+            44_100.0
+        };
+        let frame_len = friction_frame_len(rate);
+        let bins = frame_len / 2 + 1;
+        let mut stats = PrepareStats::default();
+
+        // Units grouped by cell, cells in order of first appearance.
+        let mut crumple_cells: Vec<CrumpleCell> = Vec::new();
+        let mut order: Vec<Vec<usize>> = Vec::new();
+        for (i, u) in db.units.iter().enumerate() {
+            match crumple_cells.iter().position(|c| c.cell.same_as(&u.cell)) {
+                Some(k) => order[k].push(i),
+                None => {
+                    crumple_cells.push(CrumpleCell {
+                        cell: u.cell,
+                        first_unit: 0,
+                        num_units: 0,
+                        reference_radius_m: u.cell.reference_radius_m(),
+                    });
+                    order.push(vec![i]);
+                }
+            }
+        }
+        let resampler = (f64::from(db.sample_rate_hz) != rate)
+            .then(|| Resampler::new(f64::from(db.sample_rate_hz), rate));
+        let mut pcm: Vec<i16> = Vec::new();
+        let mut units = Vec::with_capacity(db.units.len());
+        for (k, members) in order.iter().enumerate() {
+            crumple_cells[k].first_unit = units.len() as u32;
+            crumple_cells[k].num_units = members.len() as u32;
+            for &i in members {
+                let src = &db.units[i].samples;
+                let resampled;
+                let samples: &[f32] = match &resampler {
+                    Some(r) => {
+                        stats.resampled_units += 1;
+                        resampled = r.process(src);
+                        &resampled
+                    }
+                    None => src,
+                };
+                let peak = samples.iter().fold(0.0f32, |m, s| m.max(s.abs()));
+                let scale = if peak > 0.0 { peak / 32767.0 } else { 1.0 };
+                let q: Vec<i16> = samples
+                    .iter()
+                    .map(|s| (s / scale).round().clamp(-32767.0, 32767.0) as i16)
+                    .collect();
+                // −90 dB of the peak is 1.04 LSB: keep up to the last sample of magnitude ≥ 2.
+                let len = q
+                    .iter()
+                    .rposition(|v| v.unsigned_abs() >= 2)
+                    .map_or(1, |p| p + 1);
+                stats.trimmed_samples += q.len() - len;
+                pcm.extend(std::iter::repeat_n(0, UNIT_PAD));
+                let offset = pcm.len();
+                pcm.extend_from_slice(&q[..len]);
+                pcm.extend(std::iter::repeat_n(0, UNIT_PAD));
+                units.push(PreparedUnit {
+                    offset,
+                    len,
+                    scale,
+                    peak,
+                });
+            }
+        }
+        let crumple_index =
+            CellIndex::new(&crumple_cells.iter().map(|c| c.cell).collect::<Vec<_>>());
+
+        let src_df = f64::from(db.spectrum_rate_hz) / (2.0 * db.spectrum_bins as f64);
+        let dst_df = rate / frame_len as f64;
+        let mut friction_cells = Vec::with_capacity(db.spectra.len());
+        let mut spectra = Vec::with_capacity(db.spectra.len() * bins);
+        for s in &db.spectra {
+            let power = spectrum_band_power(&s.magnitudes, src_df, bins, dst_df);
+            let inv_speed = 1.0 / f64::from(s.speed_m_s);
+            for (j, p) in power.iter().enumerate() {
+                let v = if j == 0 || j == bins - 1 {
+                    0.0
+                } else {
+                    (p / 2.0).sqrt() * inv_speed * f64::from(crate::REFERENCE_SLIDE_SPEED_M_S)
+                };
+                spectra.push(v as f32);
+            }
+            friction_cells.push(FrictionCell {
+                cell: s.cell,
+                reference_radius_m: s.cell.reference_radius_m(),
+            });
+        }
+        let friction_index =
+            CellIndex::new(&friction_cells.iter().map(|c| c.cell).collect::<Vec<_>>());
+        pcm.shrink_to_fit();
+        SoundDb {
+            sample_rate_hz: rate,
+            frame_len,
+            info: db.info.clone(),
+            pcm,
+            units,
+            crumple_cells,
+            crumple_index,
+            friction_cells,
+            friction_index,
+            spectra,
+            stats,
+        }
+    }
+
+    /// The rate this database was prepared for; `None` for the empty database (any rate).
+    pub fn sample_rate_hz(&self) -> Option<f64> {
+        (self.sample_rate_hz > 0.0).then_some(self.sample_rate_hz)
+    }
+
+    /// True if a renderer at `sample_rate_hz` can use this database.
+    pub fn matches_rate(&self, sample_rate_hz: f64) -> bool {
+        match self.sample_rate_hz() {
+            None => true,
+            Some(r) => (r - sample_rate_hz).abs() < 1e-6 * r,
+        }
+    }
+
+    /// True without units and spectra.
+    pub fn is_empty(&self) -> bool {
+        self.units.is_empty() && self.friction_cells.is_empty()
+    }
+
+    /// Descriptive fields.
+    pub fn info(&self) -> &DbInfo {
+        &self.info
+    }
+
+    /// Friction iFFT frame length M this database's spectra are binned for (0 when empty).
+    pub fn frame_len(&self) -> usize {
+        if self.friction_cells.is_empty() && self.units.is_empty() {
+            0
+        } else {
+            self.frame_len
+        }
+    }
+
+    /// Number of bins of each prepared spectrum (M/2 + 1).
+    pub fn spectrum_bins(&self) -> usize {
+        self.frame_len / 2 + 1
+    }
+
+    /// Preparation statistics.
+    pub fn stats(&self) -> PrepareStats {
+        self.stats
+    }
+
+    /// Crumple cells.
+    pub fn crumple_cells(&self) -> &[CrumpleCell] {
+        &self.crumple_cells
+    }
+
+    /// Friction cells.
+    pub fn friction_cells(&self) -> &[FrictionCell] {
+        &self.friction_cells
+    }
+
+    /// Number of units.
+    pub fn num_units(&self) -> usize {
+        self.units.len()
+    }
+
+    /// A unit's description.
+    pub fn unit(&self, index: usize) -> &PreparedUnit {
+        &self.units[index]
+    }
+
+    /// A unit's samples **with** [`UNIT_PAD`] zeros on both sides (length len + 2·UNIT_PAD).
+    pub fn unit_padded_pcm(&self, index: usize) -> &[i16] {
+        let u = &self.units[index];
+        &self.pcm[u.offset - UNIT_PAD..u.offset + u.len + UNIT_PAD]
+    }
+
+    /// A unit's samples as f32 (allocates; for tests and tools).
+    pub fn unit_samples(&self, index: usize) -> Vec<f32> {
+        let u = &self.units[index];
+        self.pcm[u.offset..u.offset + u.len]
+            .iter()
+            .map(|&q| f32::from(q) * u.scale)
+            .collect()
+    }
+
+    /// The crumple cell for a resonator (l_r, total free curved border l_c; l_c ≤ 0 =
+    /// constrained). No allocation.
+    pub fn crumple_lookup(&self, lr_cm: f32, lc_cm: f32) -> Option<CellId> {
+        self.crumple_index
+            .lookup(lr_cm, lc_cm)
+            .map(|l| CellId(l.index as u16))
+    }
+
+    /// The friction cell for a resonator. No allocation.
+    pub fn friction_lookup(&self, lr_cm: f32, lc_cm: f32) -> Option<CellId> {
+        self.friction_index
+            .lookup(lr_cm, lc_cm)
+            .map(|l| CellId(l.index as u16))
+    }
+
+    /// A friction cell's prepared spectrum (M/2 + 1 bins, iFFT-scaled, per unit speed ratio).
+    pub fn friction_spectrum(&self, id: CellId) -> &[f32] {
+        let bins = self.spectrum_bins();
+        let i = id.0 as usize;
+        &self.spectra[i * bins..(i + 1) * bins]
+    }
+
+    /// Heap memory held, bytes.
+    pub fn memory_bytes(&self) -> usize {
+        self.pcm.capacity() * 2
+            + self.spectra.capacity() * 4
+            + self.units.capacity() * std::mem::size_of::<PreparedUnit>()
+            + self.crumple_cells.capacity() * std::mem::size_of::<CrumpleCell>()
+            + self.friction_cells.capacity() * std::mem::size_of::<FrictionCell>()
+            + 2 * std::mem::size_of::<CellIndex>()
+            + (self.crumple_index.len() + self.friction_index.len()) * 12
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::database::{FrictionSpectrum, Unit};
+
+    #[test]
+    fn frame_lengths_stay_near_46_ms() {
+        for (rate, m) in [
+            (8_000.0, 512),
+            (22_050.0, 1024),
+            (44_100.0, 2048),
+            (48_000.0, 2048),
+            (88_200.0, 4096),
+            (96_000.0, 4096),
+            (192_000.0, 8192),
+        ] {
+            assert_eq!(friction_frame_len(rate), m, "{rate}");
+            let ms = 1000.0 * m as f64 / rate;
+            assert!((30.0..=65.0).contains(&ms), "{rate}: {ms} ms");
+        }
+    }
+
+    fn db() -> Database {
+        let mut db = Database::new(DbInfo::default(), 44_100);
+        let mut clip = vec![0.0f32; 1000];
+        clip[10] = 0.5;
+        clip[11] = -0.25;
+        db.units.push(Unit {
+            cell: Cell::Constrained,
+            samples: clip,
+            file: String::new(),
+        });
+        db.spectra.push(FrictionSpectrum {
+            cell: Cell::Constrained,
+            magnitudes: vec![0.001; 2048],
+            speed_m_s: 0.05,
+            file: String::new(),
+        });
+        db
+    }
+
+    #[test]
+    fn units_are_trimmed_and_padded() {
+        let p = SoundDb::prepare(&db(), 44_100.0);
+        let u = *p.unit(0);
+        assert_eq!(u.len, 12);
+        assert!((u.peak - 0.5).abs() < 1e-6);
+        let padded = p.unit_padded_pcm(0);
+        assert_eq!(padded.len(), 12 + 2 * UNIT_PAD);
+        assert!(padded[..UNIT_PAD].iter().all(|&v| v == 0));
+        let s = p.unit_samples(0);
+        assert!((s[10] - 0.5).abs() < 1e-4 && (s[11] + 0.25).abs() < 1e-4);
+        assert!(p.memory_bytes() > 0);
+    }
+
+    #[test]
+    fn spectrum_power_matches_at_any_rate() {
+        // Source power: 2048 bins × 0.001² = 2.048e-3 over 0–22 kHz, speed 0.05 → ×2 amplitude.
+        for rate in [44_100.0, 48_000.0, 96_000.0] {
+            let p = SoundDb::prepare(&db(), rate);
+            let s = p.friction_spectrum(CellId(0));
+            assert_eq!(s.len(), friction_frame_len(rate) / 2 + 1);
+            let var: f64 = s.iter().map(|v| 2.0 * f64::from(*v).powi(2)).sum();
+            let expect = 2048.0 * 1e-6 * 4.0;
+            assert!(
+                (var / expect - 1.0).abs() < 0.02,
+                "{rate}: {var} vs {expect}"
+            );
+        }
+    }
+
+    #[test]
+    fn empty_matches_any_rate() {
+        let e = SoundDb::empty();
+        assert!(e.is_empty() && e.matches_rate(12_345.0));
+        assert!(e.crumple_lookup(1.0, 1.0).is_none());
+        let p = SoundDb::prepare(&db(), 48_000.0);
+        assert!(p.matches_rate(48_000.0) && !p.matches_rate(44_100.0));
+    }
+}
