@@ -17,7 +17,7 @@ use nice_plug_egui::{
 };
 use sim_core::GestureParam;
 
-use crate::engine::Meters;
+use crate::engine::{Meters, ViewShared};
 use crate::params::PapierParams;
 
 /// Initial window size, logical pixels.
@@ -32,6 +32,7 @@ pub fn default_state() -> Arc<EguiEditorState> {
 pub fn create(
     params: Arc<PapierParams>,
     meters: Arc<Meters>,
+    view: Arc<ViewShared>,
     state: Arc<EguiEditorState>,
 ) -> Option<EguiEditor<PapierEditor>> {
     create_egui_editor(
@@ -41,6 +42,7 @@ pub fn create(
         PapierEditor {
             params,
             meters,
+            view,
             gui: None,
         },
     )
@@ -50,6 +52,7 @@ pub fn create(
 pub struct PapierEditor {
     params: Arc<PapierParams>,
     meters: Arc<Meters>,
+    view: Arc<ViewShared>,
     gui: Option<GuiContext>,
 }
 
@@ -79,6 +82,7 @@ impl NiceEguiApp for PapierEditor {
         _frame: &mut nice_plug_egui::Frame,
     ) -> Result<(), nice_plug_egui::baseview::HandlerError> {
         self.gui = Some(nice_gui_ctx);
+        self.view.open.store(true, Ordering::Relaxed);
         Ok(())
     }
 
@@ -148,6 +152,7 @@ impl NiceEguiApp for PapierEditor {
     }
 
     fn editor_closed(&mut self) {
+        self.view.open.store(false, Ordering::Relaxed);
         self.gui = None;
     }
 }

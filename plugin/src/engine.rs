@@ -37,6 +37,7 @@ pub mod frame_clock;
 pub mod messages;
 pub mod meters;
 pub mod param_values;
+pub mod view;
 pub mod worker;
 
 use std::collections::VecDeque;
@@ -54,6 +55,8 @@ use self::messages::{
 };
 pub use self::meters::Meters;
 pub use self::param_values::{ParamError, ParamValues};
+use self::view::ViewPublisher;
+pub use self::view::{ViewFrame, ViewShared};
 use self::worker::{PUBLISH_INTERVAL_FRAMES, WorkerHandle, WorkerShared, WorkerState};
 use crate::gesture_map::{self, Action, MidiInput};
 use crate::render::{MixLevels, Renderer, Scene};
@@ -88,6 +91,8 @@ struct Lockstep {
     frames_since_publish: u64,
     /// Store generation the sheet is based on (publishes are refused after a newer load).
     sheet_generation: u64,
+    view: ViewPublisher,
+    view_shared: Arc<ViewShared>,
 }
 
 struct Threaded {
@@ -149,6 +154,7 @@ impl Engine {
         store: Arc<SheetStore>,
         store_generation: u64,
         meters: Arc<Meters>,
+        view: Arc<ViewShared>,
     ) -> Result<Self, EngineError> {
         // The sheet follows the parameters: bring it in line before the first frame. Only what
         // differs is sent, so that a restored sheet at rest stays at rest (and re-saves
@@ -185,6 +191,8 @@ impl Engine {
                 was_awake: false,
                 frames_since_publish: 0,
                 sheet_generation: store_generation,
+                view: ViewPublisher::install(&view),
+                view_shared: view.clone(),
             }),
             SimMode::Threaded => {
                 let shared = Arc::new(WorkerShared::new(EVENT_QUEUE_CAPACITY));
@@ -195,6 +203,8 @@ impl Engine {
                         clock: frames,
                         next_frame: 0,
                         store_generation,
+                        view: ViewPublisher::install(&view),
+                        view_shared: view.clone(),
                     },
                     shared.clone(),
                     input,
@@ -401,6 +411,7 @@ impl Engine {
                         }
                         worker::step_frame(&mut l.sim, &mut l.out, &self.meters);
                         Self::deliver(&mut self.renderer, &l.out.sound, &self.meters);
+                        l.view.after_frame(&l.view_shared, &l.sim, &l.out.stats);
                         let awake = !l.out.stats.asleep;
                         l.frames_since_publish += 1;
                         if (l.was_awake && !awake)

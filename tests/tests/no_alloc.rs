@@ -55,6 +55,7 @@ fn engine(mode: SimMode, sample_rate: f64) -> Engine {
         Arc::new(SheetStore::default()),
         0,
         Arc::new(Meters::default()),
+        Arc::new(papier::engine::ViewShared::default()),
     )
     .expect("engine")
 }
