@@ -215,10 +215,7 @@ impl GestureRig {
             V2::new(-hw, hl),
         ];
         for (k, c) in corners.iter().enumerate() {
-            pts[8 + k] = (
-                *c,
-                V2::new(-c.x.signum() * w / 4.0, -c.y.signum() * l / 4.0),
-            );
+            pts[8 + k] = (*c, V2::new(-c.x.signum() * w / 4.0, -c.y.signum() * l / 4.0));
             pts[12 + k] = (*c, V2::zeros());
         }
         let mids = [
@@ -262,11 +259,7 @@ impl GestureRig {
 
     /// A hand takes hold of a slot (a second grab of a held slot only changes the grip).
     pub fn grab(&mut self, slot: GrabSlot, grip: f32, pos: &[V3]) {
-        let grip = if grip.is_finite() {
-            grip.clamp(0.0, 1.0)
-        } else {
-            0.5
-        };
+        let grip = if grip.is_finite() { grip.clamp(0.0, 1.0) } else { 0.5 };
         let speed = grip_speed_m_s(grip);
         let was = self.state.held[slot.index()].is_some();
         self.state.held[slot.index()] = Some(grip);
@@ -327,13 +320,7 @@ impl GestureRig {
 
     /// Advances the rig by one frame: gesture slew, crumple on/off, target poses, handle poses.
     /// Returns true if any handle moved.
-    pub fn advance_frame(
-        &mut self,
-        dt_s: f64,
-        frame_scale: f64,
-        pos: &[V3],
-        rng: &mut rand_pcg::Pcg32,
-    ) -> bool {
+    pub fn advance_frame(&mut self, dt_s: f64, frame_scale: f64, pos: &[V3], rng: &mut rand_pcg::Pcg32) -> bool {
         let l = self.l_paper();
         let clamp_m = TRAVEL_CLAMP_FRAC * l * frame_scale;
         let max_angle = ROTATION_CLAMP_RAD * frame_scale;
@@ -353,8 +340,7 @@ impl GestureRig {
                     rng.random_range(0.6..1.4),
                 ];
                 let def = self.info[NUM_SLOT_HANDLES + k].def;
-                self.state.handles[NUM_SLOT_HANDLES + k] =
-                    HandleState::grab(&def, pos, CRUMPLE_SPEED_M_S);
+                self.state.handles[NUM_SLOT_HANDLES + k] = HandleState::grab(&def, pos, CRUMPLE_SPEED_M_S);
             }
             self.ownership_dirty = true;
         } else if self.state.crumple_active && c_cmd <= 0.0 && crumple_smoothed <= 0.0 {
@@ -369,8 +355,7 @@ impl GestureRig {
         }
 
         // Shake phase.
-        self.state.shake_phase_rad = (self.state.shake_phase_rad
-            + std::f64::consts::TAU * rate * dt_s)
+        self.state.shake_phase_rad = (self.state.shake_phase_rad + std::f64::consts::TAU * rate * dt_s)
             .rem_euclid(std::f64::consts::TAU);
         let mut moved = false;
         for k in 0..NUM_HANDLES {
@@ -401,11 +386,7 @@ impl GestureRig {
             };
             let cur = self.state.smoothed[i];
             let d = target - cur;
-            self.state.smoothed[i] = if d.abs() <= rate {
-                target
-            } else {
-                cur + rate * d.signum()
-            };
+            self.state.smoothed[i] = if d.abs() <= rate { target } else { cur + rate * d.signum() };
         }
     }
 
@@ -416,10 +397,7 @@ impl GestureRig {
         let l = self.length_m;
         let lp = self.l_paper();
         let z0 = self.home_z_m;
-        let shake = g(GestureParam::ShakeDepth)
-            * SHAKE_AMPLITUDE_FRAC
-            * l
-            * self.state.shake_phase_rad.sin();
+        let shake = g(GestureParam::ShakeDepth) * SHAKE_AMPLITUDE_FRAC * l * self.state.shake_phase_rad.sin();
         if k >= NUM_SLOT_HANDLES {
             let j = k - NUM_SLOT_HANDLES;
             let c = g(GestureParam::Crumple);
@@ -505,13 +483,7 @@ impl GestureRig {
     /// Writes the kinematic constraints at fraction `s` ∈ [0, 1] of the current frame:
     /// `fixed[v]` for held vertices and their positions in `target` (pushed out of the
     /// obstacles).
-    pub fn fill_kinematics(
-        &self,
-        s: f64,
-        fixed: &mut [bool],
-        target: &mut [V3],
-        obstacles: &Obstacles,
-    ) {
+    pub fn fill_kinematics(&self, s: f64, fixed: &mut [bool], target: &mut [V3], obstacles: &Obstacles) {
         for f in fixed.iter_mut() {
             *f = false;
         }
@@ -578,12 +550,7 @@ mod tests {
     fn setup() -> (Sheet, GestureRig, Obstacles, rand_pcg::Pcg32) {
         let sheet = Sheet::new_flat(SheetSize::A4, MeshConfig::default(), 0.75, 0.1);
         let rig = GestureRig::new(&sheet, 0.75);
-        (
-            sheet,
-            rig,
-            Obstacles::new(&RoomConfig::default()),
-            rand_pcg::Pcg32::seed_from_u64(1),
-        )
+        (sheet, rig, Obstacles::new(&RoomConfig::default()), rand_pcg::Pcg32::seed_from_u64(1))
     }
 
     fn run(rig: &mut GestureRig, sheet: &Sheet, rng: &mut rand_pcg::Pcg32, frames: usize) {
@@ -652,10 +619,7 @@ mod tests {
         let c0 = rig.info[12].def.vertex as usize;
         let r = V2::new(target[c0].x, target[c0].y).norm();
         let r0 = sheet.sp.pattern[c0].norm();
-        assert!(
-            r < 0.5 * r0,
-            "corner squeezed towards the centre: {r} vs {r0}"
-        );
+        assert!(r < 0.5 * r0, "corner squeezed towards the centre: {r} vs {r0}");
         rig.set_gesture(GestureParam::Crumple, 0.0);
         run(&mut rig, &sheet, &mut rng, 400);
         assert!(!rig.state.crumple_active);
@@ -669,13 +633,8 @@ mod tests {
         rig.grab(GrabSlot::Front, 1.0, &sheet.sp.pos);
         rig.set_gesture(GestureParam::Twist, 1.0);
         rig.advance_frame(0.005, 1.0, &sheet.sp.pos, &mut rng);
-        assert!(
-            rig.state.smoothed[GestureParam::Twist.index()]
-                <= ROTATION_CLAMP_RAD / std::f64::consts::PI + 1e-12
-        );
+        assert!(rig.state.smoothed[GestureParam::Twist.index()] <= ROTATION_CLAMP_RAD / std::f64::consts::PI + 1e-12);
         let h = &rig.state.handles[2];
-        assert!(
-            (h.pose.pos() - h.prev_pose.pos()).norm() <= TRAVEL_CLAMP_FRAC * sheet.length_m + 1e-12
-        );
+        assert!((h.pose.pos() - h.prev_pose.pos()).norm() <= TRAVEL_CLAMP_FRAC * sheet.length_m + 1e-12);
     }
 }

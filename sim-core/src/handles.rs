@@ -96,10 +96,7 @@ impl HandleDef {
                     nb += 1;
                 }
             }
-            let (a, b) = (
-                sp.pattern[bn[0] as usize] - p,
-                sp.pattern[bn[1] as usize] - p,
-            );
+            let (a, b) = (sp.pattern[bn[0] as usize] - p, sp.pattern[bn[1] as usize] - p);
             let straight = (a.normalize().dot(&b.normalize()) + 1.0).abs() < 1e-6;
             push(&mut out, bn[0]);
             push(&mut out, bn[1]);
@@ -270,21 +267,13 @@ impl HandleState {
         };
         self.pose = Pose::new(new_p, new_r);
         for k in 0..def.num_neighbours as usize {
-            let o = V3::new(
-                self.offsets_m[k][0],
-                self.offsets_m[k][1],
-                self.offsets_m[k][2],
-            );
+            let o = V3::new(self.offsets_m[k][0], self.offsets_m[k][1], self.offsets_m[k][2]);
             let d = def.home_offsets[k] - o;
             let dn = d.norm();
             let step = max_step.min(dn);
             if dn > 0.0 {
                 moved = true;
-                let o2 = if dn <= step {
-                    def.home_offsets[k]
-                } else {
-                    o + d * (step / dn)
-                };
+                let o2 = if dn <= step { def.home_offsets[k] } else { o + d * (step / dn) };
                 self.offsets_m[k] = [o2.x, o2.y, o2.z];
             }
         }
@@ -334,10 +323,7 @@ fn fit_frame(def: &HandleDef, pos: &[V3]) -> Rot {
             cur_n += b.cross(&b2) * s.signum();
         }
     }
-    let scale = def.home_offsets[..nn]
-        .iter()
-        .map(|o| o.norm())
-        .fold(0.0, f64::max);
+    let scale = def.home_offsets[..nn].iter().map(|o| o.norm()).fold(0.0, f64::max);
     let nl = cur_n.norm();
     if nl > 0.0 && scale > 0.0 {
         cov += (cur_n / nl) * V3::z().transpose() * scale;
@@ -369,18 +355,9 @@ mod tests {
         let dc = HandleDef::at_vertex(&s, corner);
         let db = HandleDef::at_vertex(&s, border);
         let di = HandleDef::at_vertex(&s, inner);
-        assert_eq!(
-            (dc.location, dc.num_neighbours),
-            (HandleLocation::Corner, 2)
-        );
-        assert_eq!(
-            (db.location, db.num_neighbours),
-            (HandleLocation::Border, 3)
-        );
-        assert_eq!(
-            (di.location, di.num_neighbours),
-            (HandleLocation::Interior, 4)
-        );
+        assert_eq!((dc.location, dc.num_neighbours), (HandleLocation::Corner, 2));
+        assert_eq!((db.location, db.num_neighbours), (HandleLocation::Border, 3));
+        assert_eq!((di.location, di.num_neighbours), (HandleLocation::Interior, 4));
         // The border handle's third neighbour is inward (towards −y from the back edge).
         assert!(db.home_offsets[2].y < 0.0);
         // Neighbours of the corner span a plane.

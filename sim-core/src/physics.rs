@@ -304,22 +304,16 @@ impl Physics {
         self.substeps_done += 1;
         self.frame.capture(mesh, obstacles);
         let report = match cfg.kind {
-            SolverKind::Newton => {
-                self.newton
-                    .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s)
-            }
-            SolverKind::Xpbd => {
-                self.xpbd
-                    .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s)
-            }
+            SolverKind::Newton => self
+                .newton
+                .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s),
+            SolverKind::Xpbd => self
+                .xpbd
+                .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s),
         };
         // Last line of defence: a non-finite state is replaced by the start of the substep,
         // at rest (never observed in the stress tests; counted if it happens).
-        let bad = mesh
-            .pos
-            .iter()
-            .chain(&mesh.vel)
-            .any(|v| !crate::math::finite3(v));
+        let bad = mesh.pos.iter().chain(&mesh.vel).any(|v| !crate::math::finite3(v));
         if bad {
             mesh.pos.copy_from_slice(&self.frame.x_n);
             for v in &mut mesh.vel {

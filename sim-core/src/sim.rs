@@ -44,7 +44,9 @@ pub use saved::{RestoreError, SAVED_SHEET_VERSION, SavedSheet};
 
 use rand::SeedableRng;
 
-use crate::collision::{CONTACT_SKIN_M, Obstacles, TOUCH_DIST_M, VertexContact, penalty_stiffness};
+use crate::collision::{
+    CONTACT_SKIN_M, Obstacles, TOUCH_DIST_M, VertexContact, penalty_stiffness,
+};
 use crate::control::{Command, GestureParam, Material, SheetSize};
 use crate::gesture_rig::GestureRig;
 use crate::material::PaperMaterial;
@@ -188,12 +190,7 @@ impl Sim {
     pub fn new(cfg: SimConfig) -> Self {
         let cfg = cfg.sanitized();
         let material = PaperMaterial::of(cfg.material);
-        let sheet = Sheet::new_flat(
-            cfg.size,
-            cfg.mesh,
-            cfg.room.home_height_m(),
-            material.areal_density_kg_m2,
-        );
+        let sheet = Sheet::new_flat(cfg.size, cfg.mesh, cfg.room.home_height_m(), material.areal_density_kg_m2);
         let mut sim = Self::with_sheet(cfg, sheet);
         sim.asleep = cfg.room.table;
         sim
@@ -328,8 +325,7 @@ impl Sim {
             self.rig.state.handles[k].active = held.handles[k].active;
             self.rig.state.handles[k].speed_m_s = held.handles[k].speed_m_s;
         }
-        self.rig
-            .rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
+        self.rig.rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
         self.wake();
     }
 
@@ -372,9 +368,7 @@ impl Sim {
                     self.cfg.material = m;
                     self.material = PaperMaterial::of(m);
                     self.params = PhysParams::new(&self.material, &self.cfg.solver);
-                    self.sheet
-                        .sp
-                        .set_areal_density(self.material.areal_density_kg_m2);
+                    self.sheet.sp.set_areal_density(self.material.areal_density_kg_m2);
                     self.wake();
                 }
             }
@@ -405,9 +399,9 @@ impl Sim {
         let dt = 1.0 / self.cfg.frame_rate_hz;
         let frame_scale = DEFAULT_FRAME_RATE_HZ / self.cfg.frame_rate_hz;
         let planes_moved = self.obstacles.ease(dt);
-        let handles_moved =
-            self.rig
-                .advance_frame(dt, frame_scale, &self.sheet.sp.pos, &mut self.rng);
+        let handles_moved = self
+            .rig
+            .advance_frame(dt, frame_scale, &self.sheet.sp.pos, &mut self.rng);
         let n_sub = self.cfg.solver.substeps;
         let h = dt / f64::from(n_sub);
         let (mut iterations, mut recoveries) = (0u32, 0u32);
@@ -501,10 +495,7 @@ impl Sim {
     /// geometry layer's enrichment (×2).
     pub fn mesh_capacity(&self) -> (usize, usize) {
         let (v, t) = self.mesh_capacity;
-        (
-            v.max(self.sheet.sp.num_vertices()),
-            t.max(self.sheet.sp.num_triangles()),
-        )
+        (v.max(self.sheet.sp.num_vertices()), t.max(self.sheet.sp.num_triangles()))
     }
 
     /// Copies the mesh out (no allocation when `out` has the capacity).
@@ -564,20 +555,11 @@ impl Sim {
         cfg.seed = saved.seed;
         let material = PaperMaterial::of(cfg.material);
         let pattern = Pattern {
-            points: saved
-                .pattern_m
-                .iter()
-                .map(|p| V2::new(p[0], p[1]))
-                .collect(),
+            points: saved.pattern_m.iter().map(|p| V2::new(p[0], p[1])).collect(),
             triangles: saved.triangles.clone(),
         };
-        let sheet = Sheet::from_pattern(
-            cfg.size,
-            &pattern,
-            cfg.room.home_height_m(),
-            material.areal_density_kg_m2,
-        )
-        .map_err(|e| RestoreError::BadMesh(e.to_string()))?;
+        let sheet = Sheet::from_pattern(cfg.size, &pattern, cfg.room.home_height_m(), material.areal_density_kg_m2)
+            .map_err(|e| RestoreError::BadMesh(e.to_string()))?;
         let ne = sheet.sp.num_edges();
         if saved.edge_rest_angle_rad.len() != ne || saved.edge_damage.len() != ne {
             return Err(RestoreError::Invalid(format!(
@@ -595,8 +577,7 @@ impl Sim {
             for (i, v) in saved.velocities_m_s.iter().enumerate() {
                 sp.vel[i] = V3::new(v[0], v[1], v[2]);
             }
-            sp.edge_rest_angle
-                .copy_from_slice(&saved.edge_rest_angle_rad);
+            sp.edge_rest_angle.copy_from_slice(&saved.edge_rest_angle_rad);
             sp.edge_damage.copy_from_slice(&saved.edge_damage);
             sp.singular.clone_from(&saved.singular_vertices);
         }
@@ -616,11 +597,8 @@ impl Sim {
         let room = sim.cfg.room;
         sim.obstacles.set_room(&room, &sim.sheet.sp.pos);
         sim.rig.state = saved.rig.clone();
-        sim.rig.restore_ownership(
-            saved.rig_suppressed,
-            saved.rig_ownership_pending,
-            &sim.sheet.sp.pos,
-        );
+        sim.rig
+            .restore_ownership(saved.rig_suppressed, saved.rig_ownership_pending, &sim.sheet.sp.pos);
         sim.metrics.reset_normals(&sim.sheet.sp);
         sim.update_contacts();
         sim.last_metrics = sim.metrics.compute(&sim.sheet.sp);
@@ -691,13 +669,7 @@ mod tests {
             frames += 1;
         }
         assert!(sim.is_asleep(), "asleep after {frames} frames");
-        let zmax = sim
-            .sheet()
-            .sp
-            .pos
-            .iter()
-            .map(|p| p.z)
-            .fold(f64::MIN, f64::max);
+        let zmax = sim.sheet().sp.pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
         assert!(zmax < 0.02, "on the floor: {zmax}");
         assert!(sim.contacts().iter().filter(|c| c.in_contact).count() > 10);
         assert!(

@@ -26,9 +26,7 @@ use crate::collision::{
 };
 use crate::math::{GRAVITY_M_S2, M3, V3};
 use crate::physics::sparse::BlockSystem;
-use crate::physics::{
-    Kinematics, PhysParams, SolverConfig, SubstepFrame, SubstepReport, bending, membrane,
-};
+use crate::physics::{Kinematics, PhysParams, SolverConfig, SubstepFrame, SubstepReport, bending, membrane};
 use crate::sheet::physical::PhysMesh;
 
 /// Local vertex pairs of a triangle's off-diagonal blocks.
@@ -136,18 +134,10 @@ impl NewtonSolver {
             let e = self.assemble(mesh, kin.fixed, ctx, e0.is_nan());
             let e = if e0.is_nan() { e } else { e0 };
             for i in 0..n {
-                let g = if kin.fixed[i] {
-                    V3::zeros()
-                } else {
-                    -self.grad[i]
-                };
+                let g = if kin.fixed[i] { V3::zeros() } else { -self.grad[i] };
                 self.sys.rhs[3 * i..3 * i + 3].copy_from_slice(g.as_slice());
             }
-            if self
-                .sys
-                .factorize_and_solve(kin.fixed, &self.diag_fixed)
-                .is_err()
-            {
+            if self.sys.factorize_and_solve(kin.fixed, &self.diag_fixed).is_err() {
                 report.recovered = true;
                 break;
             }
@@ -158,11 +148,7 @@ impl NewtonSolver {
                 if kin.fixed[i] {
                     continue;
                 }
-                let d = V3::new(
-                    self.sys.rhs[3 * i],
-                    self.sys.rhs[3 * i + 1],
-                    self.sys.rhs[3 * i + 2],
-                );
+                let d = V3::new(self.sys.rhs[3 * i], self.sys.rhs[3 * i + 1], self.sys.rhs[3 * i + 2]);
                 slope += self.grad[i].dot(&d);
                 max_step = max_step.max(d.amax());
             }
@@ -183,11 +169,8 @@ impl NewtonSolver {
                         mesh.pos[i]
                     } else {
                         mesh.pos[i]
-                            + V3::new(
-                                self.sys.rhs[3 * i],
-                                self.sys.rhs[3 * i + 1],
-                                self.sys.rhs[3 * i + 2],
-                            ) * alpha
+                            + V3::new(self.sys.rhs[3 * i], self.sys.rhs[3 * i + 1], self.sys.rhs[3 * i + 2])
+                                * alpha
                     };
                 }
                 e_new = self.energy(mesh, &self.x_trial, kin.fixed, ctx);
@@ -217,14 +200,7 @@ impl NewtonSolver {
     /// Per-vertex terms: inertia + gravity, drag, contact penalty, lagged friction.
     /// Returns (energy, gradient, Hessian) — the Hessian only if `hess`.
     #[inline]
-    fn vertex_terms(
-        i: usize,
-        x: &V3,
-        m: f64,
-        x_hat: &V3,
-        ctx: Ctx<'_>,
-        hess: bool,
-    ) -> (f64, V3, M3) {
+    fn vertex_terms(i: usize, x: &V3, m: f64, x_hat: &V3, ctx: Ctx<'_>, hess: bool) -> (f64, V3, M3) {
         let h = ctx.h;
         let p = ctx.params;
         let f = ctx.frame;
@@ -232,11 +208,7 @@ impl NewtonSolver {
         let d = x - x_hat;
         let mut e = 0.5 * mh2 * d.norm_squared() + m * GRAVITY_M_S2 * x.z;
         let mut g = d * mh2 + V3::new(0.0, 0.0, m * GRAVITY_M_S2);
-        let mut hm = if hess {
-            M3::identity() * mh2
-        } else {
-            M3::zeros()
-        };
+        let mut hm = if hess { M3::identity() * mh2 } else { M3::zeros() };
 
         let dx = x - f.x_n[i];
         let n = &f.normal[i];
@@ -295,20 +267,13 @@ impl NewtonSolver {
         let damp_s = ctx.params.membrane_damping_s / ctx.h;
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let xs = tri.map(|i| x[i as usize]);
-            e += membrane::energy(
-                xs,
-                &mesh.tri_rest[t],
-                &ctx.frame.strain[t],
-                damp_s,
-                &ctx.params.membrane,
-            );
+            e += membrane::energy(xs, &mesh.tri_rest[t], &ctx.frame.strain[t], damp_s, &ctx.params.membrane);
         }
         let damp_b = ctx.params.bending_damping_s / ctx.h;
         for (k, hg) in mesh.hinges.iter().enumerate() {
             let xs = hg.v.map(|i| x[i as usize]);
             let ei = hg.edge as usize;
-            let ke =
-                bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
+            let ke = bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
             e += bending::energy(
                 bending::dihedral(&xs),
                 mesh.edge_rest_angle[ei],
@@ -322,13 +287,7 @@ impl NewtonSolver {
 
     /// Fills `self.grad` and the system blocks at the current positions; returns the energy
     /// if `want_energy` (else 0).
-    fn assemble(
-        &mut self,
-        mesh: &PhysMesh,
-        fixed: &[bool],
-        ctx: Ctx<'_>,
-        want_energy: bool,
-    ) -> f64 {
+    fn assemble(&mut self, mesh: &PhysMesh, fixed: &[bool], ctx: Ctx<'_>, want_energy: bool) -> f64 {
         self.sys.clear();
         let x = &mesh.pos;
         let mut e = 0.0;
@@ -337,8 +296,7 @@ impl NewtonSolver {
                 self.grad[i] = V3::zeros();
                 continue;
             }
-            let (ei, gi, hi) =
-                Self::vertex_terms(i, &x[i], mesh.mass_kg[i], &self.x_hat[i], ctx, true);
+            let (ei, gi, hi) = Self::vertex_terms(i, &x[i], mesh.mass_kg[i], &self.x_hat[i], ctx, true);
             e += ei;
             self.grad[i] = gi;
             self.sys.add_diag(i as u32, &hi);
@@ -372,8 +330,7 @@ impl NewtonSolver {
                 continue;
             };
             let ei = hg.edge as usize;
-            let ke =
-                bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
+            let ke = bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
             let rest = mesh.edge_rest_angle[ei];
             let th_n = ctx.frame.theta[k];
             if want_energy {
@@ -385,8 +342,7 @@ impl NewtonSolver {
                 self.sys.add_diag(hg.v[a], &(gt[a] * gt[a].transpose() * c));
             }
             for (p, &(a, b)) in HINGE_PAIRS.iter().enumerate() {
-                self.sys
-                    .add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
+                self.sys.add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
             }
         }
         if want_energy {
@@ -446,11 +402,7 @@ mod tests {
         );
         assert!(!r.recovered);
         for (x, v) in mesh.pos.iter().zip(&mesh.vel) {
-            assert!(
-                (x.z - (0.75 - GRAVITY_M_S2 * h * h)).abs() < 1e-9,
-                "{}",
-                x.z
-            );
+            assert!((x.z - (0.75 - GRAVITY_M_S2 * h * h)).abs() < 1e-9, "{}", x.z);
             assert!((v.z + GRAVITY_M_S2 * h).abs() < 1e-6);
         }
     }

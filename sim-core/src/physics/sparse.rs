@@ -83,8 +83,7 @@ impl BlockSystem {
         let nb = n + off_pairs.len();
 
         // Scalar entries (row, col) of the upper triangle, with their (block, entry) origin.
-        let mut entries: Vec<(usize, usize, u32, u8)> =
-            Vec::with_capacity(6 * n + 9 * off_pairs.len());
+        let mut entries: Vec<(usize, usize, u32, u8)> = Vec::with_capacity(6 * n + 9 * off_pairs.len());
         for i in 0..n {
             for r in 0..3 {
                 for c in r..3 {
@@ -229,15 +228,10 @@ impl BlockSystem {
 
     /// Assembles, factorizes and solves `A x = rhs` in place (`self.rhs` holds the solution on
     /// success). `fixed` rows are decoupled (their solution is `rhs / diag_fixed`).
-    pub fn factorize_and_solve(
-        &mut self,
-        fixed: &[bool],
-        diag_fixed: &[f64],
-    ) -> Result<(), SolveError> {
+    pub fn factorize_and_solve(&mut self, fixed: &[bool], diag_fixed: &[f64]) -> Result<(), SolveError> {
         self.scatter(fixed, diag_fixed);
         let dim = 3 * self.n;
-        let sym =
-            SymbolicSparseColMatRef::new_checked(dim, dim, &self.col_ptr, None, &self.row_idx);
+        let sym = SymbolicSparseColMatRef::new_checked(dim, dim, &self.col_ptr, None, &self.row_idx);
         let a = SparseColMatRef::new(sym, &self.values);
         let stack = MemStack::new(&mut self.mem);
         self.factorizations += 1;
@@ -281,15 +275,11 @@ mod tests {
         // Dense reference.
         let mut dense = nalgebra::DMatrix::<f64>::zeros(12, 12);
         for i in 0..4 {
-            dense
-                .view_mut((3 * i, 3 * i), (3, 3))
-                .copy_from(&(M3::identity() * 4.0));
+            dense.view_mut((3 * i, 3 * i), (3, 3)).copy_from(&(M3::identity() * 4.0));
         }
         for (i, j) in [(0usize, 1usize), (2, 1), (2, 3)] {
             dense.view_mut((3 * i, 3 * j), (3, 3)).copy_from(&off);
-            dense
-                .view_mut((3 * j, 3 * i), (3, 3))
-                .copy_from(&off.transpose());
+            dense.view_mut((3 * j, 3 * i), (3, 3)).copy_from(&off.transpose());
         }
         let rhs: Vec<f64> = (0..12).map(|k| (k as f64 * 0.37).sin()).collect();
         s.rhs.copy_from_slice(&rhs);
@@ -302,8 +292,7 @@ mod tests {
         // Fix vertex 1: its rows decouple; the rest is the reduced system.
         let fixed = vec![false, true, false, false];
         s.rhs.copy_from_slice(&rhs);
-        s.factorize_and_solve(&fixed, &[1.0, 2.0, 1.0, 1.0])
-            .unwrap();
+        s.factorize_and_solve(&fixed, &[1.0, 2.0, 1.0, 1.0]).unwrap();
         for c in 0..3 {
             assert!((s.rhs[3 + c] - rhs[3 + c] / 2.0).abs() < 1e-14);
         }

@@ -90,11 +90,7 @@ pub enum MeshError {
 
 impl PhysMesh {
     /// Builds S_P from a pattern, placed flat at height `z_m`, at rest, undamaged.
-    pub fn from_pattern(
-        p: &Pattern,
-        z_m: f64,
-        areal_density_kg_m2: f64,
-    ) -> Result<Self, MeshError> {
+    pub fn from_pattern(p: &Pattern, z_m: f64, areal_density_kg_m2: f64) -> Result<Self, MeshError> {
         for (i, q) in p.points.iter().enumerate() {
             if !(q.x.is_finite() && q.y.is_finite()) {
                 return Err(MeshError::NonFinite(i as u32));
@@ -118,9 +114,7 @@ impl PhysMesh {
                 return Err(MeshError::DegenerateTriangle(t as u32));
             }
             let dm = M2::from_columns(&[b - a, c - a]);
-            let dm_inv = dm
-                .try_inverse()
-                .ok_or(MeshError::DegenerateTriangle(t as u32))?;
+            let dm_inv = dm.try_inverse().ok_or(MeshError::DegenerateTriangle(t as u32))?;
             tri_rest.push(TriRest {
                 dm_inv,
                 area_m2: area,
@@ -160,10 +154,7 @@ impl PhysMesh {
         Ok(Self {
             pos: p.points.iter().map(|q| V3::new(q.x, q.y, z_m)).collect(),
             vel: vec![V3::zeros(); n],
-            mass_kg: vertex_area
-                .iter()
-                .map(|a| a * areal_density_kg_m2)
-                .collect(),
+            mass_kg: vertex_area.iter().map(|a| a * areal_density_kg_m2).collect(),
             vertex_area_m2: vertex_area,
             pattern: p.points.clone(),
             triangles: p.triangles.clone(),
