@@ -13,12 +13,11 @@ use nice_plug::editor::dpi::LogicalSize;
 use nice_plug::prelude::Param;
 use nice_plug_egui::widgets::ParamSlider;
 use nice_plug_egui::{
-    EguiEditor, EguiEditorState, EguiNiceSettings, NiceEguiApp, RepaintNotifier,
-    create_egui_editor,
+    EguiEditor, EguiEditorState, EguiNiceSettings, NiceEguiApp, RepaintNotifier, create_egui_editor,
 };
 use sim_core::GestureParam;
 
-use crate::engine::Meters;
+use crate::engine::{Meters, ViewShared};
 use crate::params::PapierParams;
 
 /// Initial window size, logical pixels.
@@ -33,6 +32,7 @@ pub fn default_state() -> Arc<EguiEditorState> {
 pub fn create(
     params: Arc<PapierParams>,
     meters: Arc<Meters>,
+    view: Arc<ViewShared>,
     state: Arc<EguiEditorState>,
 ) -> Option<EguiEditor<PapierEditor>> {
     create_egui_editor(
@@ -42,6 +42,7 @@ pub fn create(
         PapierEditor {
             params,
             meters,
+            view,
             gui: None,
         },
     )
@@ -51,6 +52,7 @@ pub fn create(
 pub struct PapierEditor {
     params: Arc<PapierParams>,
     meters: Arc<Meters>,
+    view: Arc<ViewShared>,
     gui: Option<GuiContext>,
 }
 
@@ -61,12 +63,7 @@ fn row(ui: &mut egui::Ui, param: &impl Param, setter: &ParamSetter) {
 }
 
 impl PapierEditor {
-    fn group(
-        ui: &mut egui::Ui,
-        title: &str,
-        id: &str,
-        body: impl FnOnce(&mut egui::Ui),
-    ) {
+    fn group(ui: &mut egui::Ui, title: &str, id: &str, body: impl FnOnce(&mut egui::Ui)) {
         ui.group(|ui| {
             ui.strong(title);
             egui::Grid::new(id)
@@ -85,6 +82,7 @@ impl NiceEguiApp for PapierEditor {
         _frame: &mut nice_plug_egui::Frame,
     ) -> Result<(), nice_plug_egui::baseview::HandlerError> {
         self.gui = Some(nice_gui_ctx);
+        self.view.open.store(true, Ordering::Relaxed);
         Ok(())
     }
 
@@ -154,6 +152,7 @@ impl NiceEguiApp for PapierEditor {
     }
 
     fn editor_closed(&mut self) {
+        self.view.open.store(false, Ordering::Relaxed);
         self.gui = None;
     }
 }

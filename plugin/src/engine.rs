@@ -37,6 +37,7 @@ pub mod frame_clock;
 pub mod messages;
 pub mod meters;
 pub mod param_values;
+pub mod view;
 pub mod worker;
 
 use std::collections::VecDeque;
@@ -54,6 +55,8 @@ use self::messages::{
 };
 pub use self::meters::Meters;
 pub use self::param_values::{ParamError, ParamValues};
+use self::view::ViewPublisher;
+pub use self::view::{ViewFrame, ViewShared};
 use self::worker::{PUBLISH_INTERVAL_FRAMES, WorkerHandle, WorkerShared, WorkerState};
 use crate::gesture_map::{self, Action, MidiInput};
 use crate::render::{MixLevels, Renderer, Scene};
@@ -88,6 +91,8 @@ struct Lockstep {
     frames_since_publish: u64,
     /// Store generation the sheet is based on (publishes are refused after a newer load).
     sheet_generation: u64,
+    view: ViewPublisher,
+    view_shared: Arc<ViewShared>,
 }
 
 struct Threaded {
@@ -149,19 +154,29 @@ impl Engine {
         store: Arc<SheetStore>,
         store_generation: u64,
         meters: Arc<Meters>,
+        view: Arc<ViewShared>,
     ) -> Result<Self, EngineError> {
-        // The sheet follows the parameters: bring it in line before the first frame.
-        if sim.config().size != params.size {
+        // The sheet follows the parameters: bring it in line before the first frame. Only what
+        // differs is sent, so that a restored sheet at rest stays at rest (and re-saves
+        // identically).
+        let cfg = *sim.config();
+        if cfg.size != params.size {
             sim.apply(Command::Size(params.size));
         }
-        sim.apply(Command::Material(params.material));
-        sim.apply(Command::Seed(params.seed));
-        sim.apply(Command::Room(params.room));
+        if cfg.material != params.material {
+            sim.apply(Command::Material(params.material));
+        }
+        if cfg.seed != params.seed {
+            sim.apply(Command::Seed(params.seed));
+        }
+        if cfg.room != params.room.sanitized() {
+            sim.apply(Command::Room(params.room));
+        }
         for g in GestureParam::ALL {
-            sim.apply(Command::Gesture {
-                param: g,
-                value: params.gestures[g.index()],
-            });
+            let value = params.gestures[g.index()];
+            if sim.gesture(g).to_bits() != value.to_bits() {
+                sim.apply(Command::Gesture { param: g, value });
+            }
         }
         let frames = FrameClock::new(sample_rate_hz, sim.config().frame_rate_hz);
         let mut renderer = Renderer::new(sample_rate_hz, db, params.seed);
@@ -176,6 +191,8 @@ impl Engine {
                 was_awake: false,
                 frames_since_publish: 0,
                 sheet_generation: store_generation,
+                view: ViewPublisher::install(&view),
+                view_shared: view.clone(),
             }),
             SimMode::Threaded => {
                 let shared = Arc::new(WorkerShared::new(EVENT_QUEUE_CAPACITY));
@@ -186,6 +203,8 @@ impl Engine {
                         clock: frames,
                         next_frame: 0,
                         store_generation,
+                        view: ViewPublisher::install(&view),
+                        view_shared: view.clone(),
                     },
                     shared.clone(),
                     input,
@@ -264,7 +283,11 @@ impl Engine {
                 }
             }
             Host::Threaded(t) => {
-                if t.shared.commands.push(WorkerMsg { at_sample, kind }).is_err() {
+                if t.shared
+                    .commands
+                    .push(WorkerMsg { at_sample, kind })
+                    .is_err()
+                {
                     self.meters.commands_dropped.fetch_add(1, Ordering::Relaxed);
                 }
             }
@@ -388,6 +411,7 @@ impl Engine {
                         }
                         worker::step_frame(&mut l.sim, &mut l.out, &self.meters);
                         Self::deliver(&mut self.renderer, &l.out.sound, &self.meters);
+                        l.view.after_frame(&l.view_shared, &l.sim, &l.out.stats);
                         let awake = !l.out.stats.asleep;
                         l.frames_since_publish += 1;
                         if (l.was_awake && !awake)
@@ -441,7 +465,9 @@ impl Engine {
             }
             peak = peak.max(s.abs());
         }
-        self.meters.peak_bits.store(peak.to_bits(), Ordering::Relaxed);
+        self.meters
+            .peak_bits
+            .store(peak.to_bits(), Ordering::Relaxed);
         self.clock += n as u64;
         if let Host::Threaded(t) = &self.host {
             // The worker polls this clock; no syscall (unpark) from the audio thread.

@@ -242,7 +242,10 @@ mod tests {
             (55, GrabSlot::Corners),
         ] {
             assert_eq!(
-                map(MidiInput::NoteOn { key, velocity: 0.25 }),
+                map(MidiInput::NoteOn {
+                    key,
+                    velocity: 0.25
+                }),
                 Action::Sim(Command::Grab { slot, grip: 0.25 })
             );
             assert_eq!(
@@ -291,8 +294,14 @@ mod tests {
 
     #[test]
     fn volume_and_channel_mode_messages() {
-        assert_eq!(map(MidiInput::Cc { cc: 7, value: 1.0 }), Action::Volume(1.0));
-        assert_eq!(map(MidiInput::Cc { cc: 7, value: 0.0 }), Action::Volume(0.0));
+        assert_eq!(
+            map(MidiInput::Cc { cc: 7, value: 1.0 }),
+            Action::Volume(1.0)
+        );
+        assert_eq!(
+            map(MidiInput::Cc { cc: 7, value: 0.0 }),
+            Action::Volume(0.0)
+        );
         assert_eq!(
             map(MidiInput::Cc {
                 cc: 123,

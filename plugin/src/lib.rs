@@ -30,7 +30,7 @@ use nice_plug::prelude::*;
 use sim_core::{Sim, SimConfig};
 use sounddb::SoundDb;
 
-use crate::engine::{Engine, Meters, ParamValues, SimMode};
+use crate::engine::{Engine, Meters, ParamValues, SimMode, ViewShared};
 use crate::gesture_map::MidiInput;
 use crate::params::PapierParams;
 
@@ -76,6 +76,7 @@ pub fn midi_input<S>(event: &NoteEvent<S>) -> Option<(MidiInput, u32)> {
 pub struct Papier {
     params: Arc<PapierParams>,
     meters: Arc<Meters>,
+    view: Arc<ViewShared>,
     editor_state: Arc<nice_plug_egui::EguiEditorState>,
     /// The running engine (between `activate()` and `deactivate()`).
     engine: Option<Engine>,
@@ -90,6 +91,7 @@ impl Default for Papier {
         Self {
             params: Arc::new(PapierParams::default()),
             meters: Arc::new(Meters::default()),
+            view: Arc::new(ViewShared::default()),
             editor_state: editor::default_state(),
             engine: None,
             parked: None,
@@ -146,6 +148,7 @@ impl Plugin for Papier {
         editor::create(
             self.params.clone(),
             self.meters.clone(),
+            self.view.clone(),
             self.editor_state.clone(),
         )
     }
@@ -162,6 +165,11 @@ impl Plugin for Papier {
         } else {
             SimMode::Threaded
         };
+        let rate = f64::from(buffer_config.sample_rate);
+        if !self.db.matches_rate(rate) {
+            // The embedded database, resampled for this rate (here, never on the audio thread).
+            self.db = render::default_db(rate);
+        }
         let values = self.params.values();
         let store = self.params.sheet_store.clone();
         let (mut sim, mut generation) = self
@@ -173,13 +181,14 @@ impl Plugin for Papier {
         }
         match Engine::new(
             mode,
-            f64::from(buffer_config.sample_rate),
+            rate,
             sim,
             &values,
             self.db.clone(),
             store,
             generation,
             self.meters.clone(),
+            self.view.clone(),
         ) {
             Ok(engine) => {
                 self.engine = Some(engine);

@@ -96,30 +96,47 @@ pub struct RenderReport {
 
 /// The built-in scene names.
 pub fn scene_names() -> Vec<&'static str> {
-    // The scenario library arrives with sim-core's physics work.
-    Vec::new()
+    sim_core::scenario::names().collect()
 }
 
 fn load_scene(name: &str) -> Result<Script, OfflineError> {
-    None.ok_or_else(|| {
-        OfflineError::Input(format!(
+    if sim_core::scenario::text(name).is_none() {
+        return Err(OfflineError::Input(format!(
             "unknown scene {name:?}; available: {}",
             scene_names().join(", ")
-        ))
-    })
+        )));
+    }
+    sim_core::scenario::get(name).map_err(|e| OfflineError::Input(format!("scene {name}: {e}")))
 }
 
-fn load_db(path: Option<&Path>) -> Result<Arc<SoundDb>, OfflineError> {
+/// The sound database: the embedded default, or a user database from `--db` (loaded, checked
+/// and prepared for the sample rate; warnings about a partial database are printed).
+fn load_db(
+    path: Option<&Path>,
+    sample_rate_hz: f64,
+    quiet: bool,
+) -> Result<Arc<SoundDb>, OfflineError> {
     match path {
-        None => Ok(Arc::new(SoundDb::empty())),
-        Some(p) => Err(OfflineError::Input(format!(
-            "--db {}: user sound databases are not supported by this build yet",
-            p.display()
-        ))),
+        None => Ok(crate::render::default_db(sample_rate_hz)),
+        Some(p) => {
+            let (db, warnings) = sounddb::Database::load(p)
+                .map_err(|e| OfflineError::Input(format!("--db {}: {e}", p.display())))?;
+            if !quiet {
+                for w in &warnings {
+                    eprintln!("papier-render: warning: --db {}: {w}", p.display());
+                }
+            }
+            Ok(Arc::new(SoundDb::prepare(&db, sample_rate_hz)))
+        }
     }
 }
 
-fn write_obj(dir: &Path, index: u64, sim: &Sim, mesh: &mut MeshSnapshot) -> Result<(), OfflineError> {
+fn write_obj(
+    dir: &Path,
+    index: u64,
+    sim: &Sim,
+    mesh: &mut MeshSnapshot,
+) -> Result<(), OfflineError> {
     sim.write_mesh(mesh);
     let path = dir.join(format!("frame_{index:05}.obj"));
     let file = std::fs::File::create(&path)
@@ -182,7 +199,7 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         )));
     }
 
-    let db = load_db(opts.db.as_deref())?;
+    let db = load_db(opts.db.as_deref(), sr, opts.quiet)?;
     if let Some(dir) = &opts.obj_dir {
         std::fs::create_dir_all(dir).map_err(|e| {
             OfflineError::Output(format!("cannot create --obj-dir {}: {e}", dir.display()))
@@ -201,9 +218,8 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         bits_per_sample: 32,
         sample_format: hound::SampleFormat::Float,
     };
-    let mut wav = hound::WavWriter::create(&opts.out, spec).map_err(|e| {
-        OfflineError::Output(format!("cannot write {}: {e}", opts.out.display()))
-    })?;
+    let mut wav = hound::WavWriter::create(&opts.out, spec)
+        .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
 
     let meters = Arc::new(Meters::default());
     let sim = Sim::new(crate::sim_config(&params));
@@ -216,6 +232,7 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         Arc::new(SheetStore::default()),
         0,
         meters.clone(),
+        Arc::new(crate::engine::ViewShared::default()),
     )
     .map_err(|e| OfflineError::Engine(e.to_string()))?;
 
@@ -314,7 +331,9 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             peak = peak.max(l.abs()).max(r.abs());
             wav.write_sample(l)
                 .and_then(|_| wav.write_sample(r))
-                .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
+                .map_err(|e| {
+                    OfflineError::Output(format!("cannot write {}: {e}", opts.out.display()))
+                })?;
         }
         pos = block_end;
         progress.set_position(pos);

@@ -32,15 +32,32 @@ pub enum StoredSheet {
     Empty,
     /// A sheet that can be restored.
     Valid(Box<SavedSheet>),
-    /// Data that could not be read; kept verbatim so that saving does not lose it.
-    Unreadable(serde_json::Value),
+    /// Data that could not be read (its JSON text); kept verbatim so that saving does not lose
+    /// it.
+    Unreadable(String),
 }
 
-/// The persisted form: any JSON value, parsed leniently so that a bad sheet never makes the
-/// whole plugin state fail to load.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+/// The persisted form: any JSON text, kept raw so that a bad sheet never makes the whole plugin
+/// state fail to load and unreadable data is written back byte for byte.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(transparent)]
-pub struct SheetJson(pub serde_json::Value);
+pub struct SheetJson(pub Box<serde_json::value::RawValue>);
+
+impl SheetJson {
+    fn from_text(text: String) -> Self {
+        match serde_json::value::RawValue::from_string(text) {
+            Ok(raw) => Self(raw),
+            Err(_) => Self::null(),
+        }
+    }
+
+    fn null() -> Self {
+        Self(
+            serde_json::value::RawValue::from_string("null".to_string())
+                .expect("null is valid JSON"),
+        )
+    }
+}
 
 /// The shared sheet store (see the module docs).
 #[derive(Debug, Default)]
@@ -93,55 +110,57 @@ impl SheetStore {
         self.rejected_publishes.load(Ordering::Relaxed)
     }
 
-    /// Interprets loaded JSON (what the host's state load calls).
-    pub fn load_json(&self, value: serde_json::Value) {
-        let stored = parse_stored(value);
+    /// Interprets loaded JSON text (what the host's state load calls).
+    pub fn load_json(&self, text: &str) {
+        let stored = parse_stored(text);
         if let Ok(mut guard) = self.inner.lock() {
             *guard = stored;
         }
         self.generation.fetch_add(1, Ordering::AcqRel);
     }
 
-    /// The JSON to save.
-    pub fn to_json(&self) -> serde_json::Value {
+    /// The JSON text to save.
+    pub fn to_json(&self) -> String {
         match self.inner.lock() {
             Ok(guard) => match &*guard {
-                StoredSheet::Empty => serde_json::Value::Null,
-                StoredSheet::Valid(s) => serde_json::to_value(s).unwrap_or(serde_json::Value::Null),
-                StoredSheet::Unreadable(v) => v.clone(),
+                StoredSheet::Empty => "null".to_string(),
+                StoredSheet::Valid(s) => {
+                    serde_json::to_string(s).unwrap_or_else(|_| "null".to_string())
+                }
+                StoredSheet::Unreadable(text) => text.clone(),
             },
-            Err(_) => serde_json::Value::Null,
+            Err(_) => "null".to_string(),
         }
     }
 }
 
 /// Parses a persisted sheet, logging why it cannot be used.
-pub fn parse_stored(value: serde_json::Value) -> StoredSheet {
-    if value.is_null() {
+pub fn parse_stored(text: &str) -> StoredSheet {
+    if text.trim() == "null" {
         return StoredSheet::Empty;
     }
-    match serde_json::from_value::<SavedSheet>(value.clone()) {
+    match serde_json::from_str::<SavedSheet>(text) {
         Ok(s) => StoredSheet::Valid(Box::new(s)),
         Err(e) => {
             nice_plug::nice_warn!(
                 "Papier: the saved sheet cannot be read ({e}); keeping a fresh sheet, and keeping \
                  the saved data unchanged for the next save"
             );
-            StoredSheet::Unreadable(value)
+            StoredSheet::Unreadable(text.to_string())
         }
     }
 }
 
 impl<'a> PersistentField<'a, SheetJson> for std::sync::Arc<SheetStore> {
     fn set(&self, new_value: SheetJson) {
-        self.load_json(new_value.0);
+        self.load_json(new_value.0.get());
     }
 
     fn map<F, R>(&self, f: F) -> R
     where
         F: Fn(&SheetJson) -> R,
     {
-        f(&SheetJson(self.to_json()))
+        f(&SheetJson::from_text(self.to_json()))
     }
 }
 
@@ -155,10 +174,10 @@ mod tests {
         let store = SheetStore::default();
         let sheet = Sim::new(SimConfig::default()).save();
         assert!(store.try_publish(sheet, 0));
-        let a = serde_json::to_string(&store.to_json()).unwrap();
+        let a = store.to_json();
         let other = SheetStore::default();
-        other.load_json(serde_json::from_str(&a).unwrap());
-        let b = serde_json::to_string(&other.to_json()).unwrap();
+        other.load_json(&a);
+        let b = other.to_json();
         assert_eq!(a, b);
         assert!(matches!(other.get(), StoredSheet::Valid(_)));
     }
@@ -167,7 +186,7 @@ mod tests {
     fn load_wins_over_stale_publish() {
         let store = SheetStore::default();
         let g0 = store.generation();
-        store.load_json(serde_json::Value::Null);
+        store.load_json("null");
         let sheet = Sim::new(SimConfig::default()).save();
         assert!(!store.try_publish(sheet.clone(), g0));
         assert_eq!(store.rejected_publishes(), 1);
@@ -177,11 +196,11 @@ mod tests {
     #[test]
     fn unreadable_data_is_kept_verbatim() {
         let store = SheetStore::default();
-        let junk = serde_json::json!({"version": 999, "future": [1, 2, 3]});
-        store.load_json(junk.clone());
+        let junk = r#"{"version": 999,  "future": [1, 2, 3]}"#;
+        store.load_json(junk);
         assert!(matches!(store.get(), StoredSheet::Unreadable(_)));
         assert_eq!(store.to_json(), junk);
-        store.load_json(serde_json::json!("garbage"));
-        assert_eq!(store.to_json(), serde_json::json!("garbage"));
+        store.load_json("\"garbage\"");
+        assert_eq!(store.to_json(), "\"garbage\"");
     }
 }

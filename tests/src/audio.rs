@@ -17,7 +17,8 @@ pub fn read_stereo(path: &Path) -> (u32, Vec<f32>, Vec<f32>) {
 
 /// True if every sample is finite and not subnormal.
 pub fn all_finite_normal(x: &[f32]) -> bool {
-    x.iter().all(|v| v.is_finite() && (*v == 0.0 || v.is_normal()))
+    x.iter()
+        .all(|v| v.is_finite() && (*v == 0.0 || v.is_normal()))
 }
 
 /// Largest absolute sample.

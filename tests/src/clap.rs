@@ -11,6 +11,14 @@ use clack_extensions::state::PluginState;
 use clack_host::events::event_types::{MidiEvent, NoteOffEvent, NoteOnEvent, ParamValueEvent};
 use clack_host::prelude::*;
 
+/// Serializes plugin use within one test process. A DAW drives every instance of a plugin from
+/// one main thread; the test harness runs tests on parallel threads, which nice-plug's
+/// main-thread bookkeeping does not expect. Every test takes this guard first.
+pub fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Host callbacks: nothing to do, the tests drive everything.
 pub struct TestShared;
 
@@ -129,8 +137,12 @@ impl Bundle {
         let factory = self.entry.get_plugin_factory().expect("factory");
         let d = factory.plugin_descriptors().next().expect("descriptor");
         (
-            d.id().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
-            d.name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+            d.id()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            d.name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default(),
             d.features()
                 .map(|f| f.to_string_lossy().into_owned())
                 .collect(),
@@ -147,7 +159,11 @@ impl Bundle {
             &self.host_info,
         )
         .map_err(|e| format!("{e:?}"))?;
-        let mut i = Instance { inst, params: Vec::new() };
+        let mut i = Instance {
+            inst,
+            params: Vec::new(),
+            active: None,
+        };
         i.params = i.read_params();
         Ok(i)
     }
@@ -158,6 +174,7 @@ pub struct Instance {
     inst: PluginInstance<TestHost>,
     /// The parameter list.
     pub params: Vec<ParamDesc>,
+    active: Option<StoppedPluginAudioProcessor<TestHost>>,
 }
 
 impl Instance {
@@ -219,7 +236,9 @@ impl Instance {
     /// Saves the state.
     pub fn save_state(&mut self) -> Result<Vec<u8>, String> {
         let h = self.inst.plugin_handle();
-        let ext = h.get_extension::<PluginState>().ok_or("no state extension")?;
+        let ext = h
+            .get_extension::<PluginState>()
+            .ok_or("no state extension")?;
         let mut out = Vec::new();
         ext.save(&h, &mut out).map_err(|e| e.to_string())?;
         Ok(out)
@@ -228,9 +247,53 @@ impl Instance {
     /// Loads a state.
     pub fn load_state(&mut self, bytes: &[u8]) -> Result<(), String> {
         let h = self.inst.plugin_handle();
-        let ext = h.get_extension::<PluginState>().ok_or("no state extension")?;
+        let ext = h
+            .get_extension::<PluginState>()
+            .ok_or("no state extension")?;
         let mut r = std::io::Cursor::new(bytes);
         ext.load(&h, &mut r).map_err(|e| e.to_string())
+    }
+
+    /// Loads a state through a stream that hands out at most `chunk` bytes per read, as some
+    /// hosts do.
+    pub fn load_state_in_chunks(&mut self, bytes: &[u8], chunk: usize) -> Result<(), String> {
+        struct Trickle<'a>(&'a [u8], usize);
+        impl std::io::Read for Trickle<'_> {
+            fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+                let n = buf.len().min(self.1).min(self.0.len());
+                buf[..n].copy_from_slice(&self.0[..n]);
+                self.0 = &self.0[n..];
+                Ok(n)
+            }
+        }
+        let h = self.inst.plugin_handle();
+        let ext = h
+            .get_extension::<PluginState>()
+            .ok_or("no state extension")?;
+        let mut r = Trickle(bytes, chunk.max(1));
+        ext.load(&h, &mut r).map_err(|e| e.to_string())
+    }
+
+    /// Activates without processing (see [`Instance::deactivate`]).
+    pub fn activate(&mut self, sample_rate: f64, max_block: u32) -> Result<(), String> {
+        let cfg = PluginAudioConfiguration {
+            sample_rate,
+            min_frames_count: 1,
+            max_frames_count: max_block,
+        };
+        let stopped = self
+            .inst
+            .activate(|_, _| (), cfg)
+            .map_err(|e| format!("activate: {e:?}"))?;
+        self.active = Some(stopped);
+        Ok(())
+    }
+
+    /// Deactivates after [`Instance::activate`].
+    pub fn deactivate(&mut self) {
+        if let Some(stopped) = self.active.take() {
+            self.inst.deactivate(stopped);
+        }
     }
 
     /// Runs pending main-thread callbacks (nice-plug posts GUI/param rescans there).
@@ -263,7 +326,10 @@ impl Instance {
         let sizes: Vec<u32> = if block_sizes.is_empty() {
             vec![max_block]
         } else {
-            block_sizes.iter().map(|b| (*b).clamp(1, max_block)).collect()
+            block_sizes
+                .iter()
+                .map(|b| (*b).clamp(1, max_block))
+                .collect()
         };
         let result = std::thread::scope(|s| {
             s.spawn(move || -> Result<_, String> {
@@ -291,11 +357,9 @@ impl Instance {
                                 Pckn::from_raw(0, 0, i16::from(key), -1),
                                 velocity,
                             )),
-                            HostEvent::NoteOff { key, .. } => ev.push(&NoteOffEvent::new(
-                                t,
-                                Pckn::from_raw(0, 0, key, -1),
-                                0.0,
-                            )),
+                            HostEvent::NoteOff { key, .. } => {
+                                ev.push(&NoteOffEvent::new(t, Pckn::from_raw(0, 0, key, -1), 0.0))
+                            }
                             HostEvent::Param { id, value, .. } => {
                                 ev.push(&ParamValueEvent::new(t, id, Pckn::match_all(), value))
                             }

@@ -1,11 +1,175 @@
-//! The README's two commands: `cargo xtask demo` and `cargo xtask test`.
+//! The README's two commands.
+//!
+//! - `cargo xtask demo`: builds the standalone application (when the ALSA/JACK headers are there
+//!   or can be installed), the `Papier.clap` and `Papier.vst3` bundles and `papier-render`, then
+//!   renders the demo scene (`plugin/scenes/demo.toml`) to `out/demo.wav` with the embedded
+//!   default sound database, and prints where everything is and how to install it.
+//! - `cargo xtask test`: installs what the tests need (Debian packages, the Python environment
+//!   of the VST3 host test), builds the bundles, checks formatting and lints, and runs every
+//!   test of the workspace, the real-host tests included.
+//!
+//! The standalone is built before the bundles on purpose: building the plugin crate with the
+//! `standalone` feature also relinks `libpapier.so`, and the bundle step must relink it without
+//! that feature so `Papier.clap`/`Papier.vst3` do not depend on ALSA.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{Context, bail};
+
+use crate::system;
+
+fn cargo(args: &[&str]) -> anyhow::Result<()> {
+    eprintln!("xtask: cargo {}", args.join(" "));
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let ok = Command::new(cargo)
+        .args(args)
+        .status()
+        .with_context(|| format!("run cargo {}", args.join(" ")))?
+        .success();
+    if !ok {
+        bail!("cargo {} failed", args.join(" "));
+    }
+    Ok(())
+}
+
+fn target_dir() -> PathBuf {
+    match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(d) => PathBuf::from(d),
+        None => PathBuf::from("target"),
+    }
+}
+
+/// Builds the standalone app if possible; returns whether it was built.
+fn build_standalone(target: &Path) -> bool {
+    match system::ensure_packages(system::STANDALONE_PACKAGES) {
+        Ok(()) => match cargo(&[
+            "build",
+            "--release",
+            "-p",
+            "papier",
+            "--features",
+            "standalone",
+            "--bin",
+            "papier",
+        ]) {
+            Ok(()) => true,
+            Err(e) => {
+                eprintln!("xtask: the standalone application did not build: {e:#}");
+                false
+            }
+        },
+        Err(e) => {
+            eprintln!("xtask: skipping the standalone application: {e:#}");
+            // A stale binary would otherwise be bundled as if it were fresh.
+            let _ = std::fs::remove_file(target.join("release").join("papier"));
+            false
+        }
+    }
+}
+
+fn bundle() -> anyhow::Result<()> {
+    eprintln!("xtask: cargo xtask bundle papier --release");
+    nice_plug_xtask::main_with_args(
+        "cargo xtask",
+        ["bundle", "papier", "--release"].map(String::from),
+    )?;
+    // The bundle step builds the package's binaries too; make sure papier-render is there.
+    cargo(&[
+        "build",
+        "--release",
+        "-p",
+        "papier",
+        "--bin",
+        "papier-render",
+    ])
+}
 
 /// The main job.
-pub fn demo(_args: &[String]) -> anyhow::Result<()> {
-    anyhow::bail!("`cargo xtask demo` is not available in this build yet")
+pub fn demo(args: &[String]) -> anyhow::Result<()> {
+    if let Some(a) = args.first() {
+        bail!("`cargo xtask demo` takes no arguments (got {a:?})");
+    }
+    nice_plug_xtask::chdir_workspace_root()?;
+    let target = target_dir();
+    let standalone = build_standalone(&target);
+    bundle()?;
+
+    std::fs::create_dir_all("out")?;
+    let render = target.join("release").join("papier-render");
+    eprintln!("xtask: rendering the demo scene");
+    let ok = Command::new(&render)
+        .args([
+            "--script",
+            "plugin/scenes/demo.toml",
+            "--out",
+            "out/demo.wav",
+            "--obj-dir",
+            "out/demo_obj",
+            "--obj-fps",
+            "25",
+        ])
+        .status()
+        .with_context(|| format!("run {}", render.display()))?
+        .success();
+    if !ok {
+        bail!("the demo render failed");
+    }
+
+    let bundled = std::fs::canonicalize(target.join("bundled"))?;
+    let wav = std::fs::canonicalize("out/demo.wav")?;
+    println!();
+    println!("Papier is built.");
+    println!("  demo render:  {}", wav.display());
+    println!(
+        "  sheet (OBJ):  {}",
+        wav.with_file_name("demo_obj").display()
+    );
+    println!("  CLAP plugin:  {}", bundled.join("Papier.clap").display());
+    println!("  VST3 plugin:  {}", bundled.join("Papier.vst3").display());
+    if standalone {
+        println!("  standalone:   {}", bundled.join("Papier").display());
+    }
+    println!(
+        "  renderer:     {}",
+        std::fs::canonicalize(&render)?.display()
+    );
+    println!();
+    println!("Install in a DAW (Linux): copy the bundles to your plugin folders, e.g.");
+    println!(
+        "  mkdir -p ~/.clap ~/.vst3 && cp -r {0}/Papier.clap ~/.clap/ && cp -r {0}/Papier.vst3 ~/.vst3/",
+        bundled.display()
+    );
+    println!(
+        "then rescan plugins in the DAW and load \"Papier\" as an instrument on a MIDI track."
+    );
+    Ok(())
 }
 
 /// The full test run.
-pub fn test(_args: &[String]) -> anyhow::Result<()> {
-    anyhow::bail!("`cargo xtask test` is not available in this build yet")
+pub fn test(args: &[String]) -> anyhow::Result<()> {
+    if let Some(a) = args.first() {
+        bail!("`cargo xtask test` takes no arguments (got {a:?})");
+    }
+    nice_plug_xtask::chdir_workspace_root()?;
+    let target = target_dir();
+    system::ensure_packages(system::STANDALONE_PACKAGES)?;
+    system::ensure_packages(system::GUI_TEST_PACKAGES)?;
+    system::ensure_venv(&std::env::current_dir()?.join(&target))?;
+    if !build_standalone(&target) {
+        bail!("the standalone application is needed by the tests and did not build");
+    }
+    bundle()?;
+    cargo(&["fmt", "--all", "--", "--check"])?;
+    cargo(&[
+        "clippy",
+        "--workspace",
+        "--all-targets",
+        "--",
+        "-D",
+        "warnings",
+    ])?;
+    cargo(&["test", "--workspace", "--no-fail-fast"])?;
+    println!("xtask: all tests passed");
+    Ok(())
 }

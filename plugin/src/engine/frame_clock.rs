@@ -55,7 +55,9 @@ mod tests {
 
     #[test]
     fn spans_tile_the_timeline() {
-        for fs in [8_000.0, 44_100.0, 48_000.0, 88_200.0, 96_000.0, 192_000.0, 44_100.5] {
+        for fs in [
+            8_000.0, 44_100.0, 48_000.0, 88_200.0, 96_000.0, 192_000.0, 44_100.5,
+        ] {
             let c = FrameClock::new(fs, 200.0);
             let mut total = 0;
             for k in 0..10_000 {

@@ -9,9 +9,9 @@
 //!
 //! A full queue never blocks: the sender counts the loss.
 
+use sim_core::Command;
 use sim_core::sim::FrameStats;
 use sim_core::sound_input::{CrumpleEvent, SoundFrame};
-use sim_core::Command;
 
 /// Capacity of the audio → worker command queue.
 pub const COMMAND_QUEUE_CAPACITY: usize = 4096;

@@ -149,7 +149,11 @@ impl ParamValues {
     /// Sets one parameter by id from a script / command-line value, with full validation.
     pub fn set(&mut self, id: &str, v: &ScriptValue) -> Result<(), ParamError> {
         if let Some(g) = GestureParam::from_id(id) {
-            let unit = if g == GestureParam::ShakeRateHz { " Hz" } else { "" };
+            let unit = if g == GestureParam::ShakeRateHz {
+                " Hz"
+            } else {
+                ""
+            };
             self.gestures[g.index()] = number(id, v, g.range(), unit)?;
             return Ok(());
         }
@@ -194,9 +198,7 @@ impl ParamValues {
             "wall" => self.room.wall = boolean(id, v)?,
             "wall_dist_cm" => self.room.wall_dist_cm = number(id, v, WALL_DIST_RANGE_CM, " cm")?,
             "listener_az_deg" => self.listener_az_deg = number(id, v, (-180.0, 180.0), "°")?,
-            "listener_dist_m" => {
-                self.listener_dist_m = number(id, v, LISTENER_DIST_RANGE_M, " m")?
-            }
+            "listener_dist_m" => self.listener_dist_m = number(id, v, LISTENER_DIST_RANGE_M, " m")?,
             "mix_crumple_db" => self.mix_crumple_db = number(id, v, GAIN_RANGE_DB, " dB")?,
             "mix_friction_db" => self.mix_friction_db = number(id, v, GAIN_RANGE_DB, " dB")?,
             "mix_tear_db" => self.mix_tear_db = number(id, v, GAIN_RANGE_DB, " dB")?,

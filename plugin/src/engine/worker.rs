@@ -31,6 +31,7 @@ use super::messages::{
     COMMAND_QUEUE_CAPACITY, SimEvent, SimEventKind, SimSnapshot, WorkerMsg, WorkerMsgKind,
 };
 use super::meters::Meters;
+use super::view::{ViewPublisher, ViewShared};
 use crate::state::{SheetStore, StoredSheet};
 
 /// Frames of backlog after which the worker skips ahead rather than catching up.
@@ -74,6 +75,10 @@ pub struct WorkerState {
     pub next_frame: u64,
     /// Store generation the sheet is based on.
     pub store_generation: u64,
+    /// The editor's view buffer.
+    pub view: ViewPublisher,
+    /// The editor's open flag and consumer end.
+    pub view_shared: Arc<ViewShared>,
 }
 
 /// A running worker.
@@ -214,6 +219,7 @@ fn run(
             }
             step_frame(&mut st.sim, &mut out, meters);
             stepped_total += 1;
+            st.view.after_frame(&st.view_shared, &st.sim, &out.stats);
 
             for e in out.sound.crumple() {
                 let ev = SimEvent {

@@ -66,7 +66,8 @@ pub enum Cli {
 }
 
 /// The usage text.
-pub const USAGE: &str = "usage: papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
+pub const USAGE: &str =
+    "usage: papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
                      [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
                      [--obj-dir DIR] [--obj-fps N] [--db DIR] [--quiet]
        papier-render --list-scenes

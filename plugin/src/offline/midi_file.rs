@@ -77,7 +77,8 @@ fn check_chunks(bytes: &[u8]) -> Result<(), String> {
 impl MidiFile {
     /// Reads and parses a MIDI file; the error is one line.
     pub fn from_file(path: &Path) -> Result<Self, String> {
-        let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let bytes =
+            std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
         Self::parse(&bytes)
     }
 
@@ -116,10 +117,12 @@ impl MidiFile {
                         MidiMessage::NoteOn { key, .. } | MidiMessage::NoteOff { key, .. } => {
                             Kind::Midi(MidiInput::NoteOff { key: key.into() })
                         }
-                        MidiMessage::Controller { controller, value } => Kind::Midi(MidiInput::Cc {
-                            cc: controller.into(),
-                            value: f32::from(u8::from(value)) / 127.0,
-                        }),
+                        MidiMessage::Controller { controller, value } => {
+                            Kind::Midi(MidiInput::Cc {
+                                cc: controller.into(),
+                                value: f32::from(u8::from(value)) / 127.0,
+                            })
+                        }
                         _ => continue,
                     },
                     _ => continue,
@@ -236,7 +239,10 @@ pub fn write_smf(events: &[TimedMidi], length_s: f64) -> Vec<u8> {
     let end = (length_s.max(0.0) * ticks_per_s).round() as u64;
     push(end, TrackEventKind::Meta(MetaMessage::EndOfTrack));
     let smf = Smf {
-        header: Header::new(Format::SingleTrack, Timing::Metrical(midly::num::u15::new(tpq))),
+        header: Header::new(
+            Format::SingleTrack,
+            Timing::Metrical(midly::num::u15::new(tpq)),
+        ),
         tracks: vec![track],
     };
     let mut out = Vec::new();

@@ -53,8 +53,10 @@ impl Timeline {
     /// Adds a MIDI file (its length plus a 1 s tail for ringing sounds).
     pub fn add_midi(&mut self, f: &MidiFile, sample_rate_hz: f64) {
         for e in &f.events {
-            self.events
-                .push((to_sample(e.time_s, sample_rate_hz), HostEvent::Midi(e.input)));
+            self.events.push((
+                to_sample(e.time_s, sample_rate_hz),
+                HostEvent::Midi(e.input),
+            ));
         }
         self.length_s = self.length_s.max(f.length_s + 1.0);
     }
@@ -153,7 +155,8 @@ impl Timeline {
 
     /// Sorts the events: by sample, parameters before MIDI, otherwise stable.
     pub fn finish(&mut self) {
-        self.events.sort_by_key(|(at, e)| (*at, matches!(e, HostEvent::Midi(_))));
+        self.events
+            .sort_by_key(|(at, e)| (*at, matches!(e, HostEvent::Midi(_))));
     }
 }
 
@@ -187,7 +190,8 @@ velocity = 0.5
         let mut tl = Timeline::default();
         let frames = FrameClock::new(48_000.0, 200.0);
         let mut scratch = ParamValues::default();
-        tl.add_script("t", &s, 48_000.0, frames, &mut scratch).unwrap();
+        tl.add_script("t", &s, 48_000.0, frames, &mut scratch)
+            .unwrap();
         tl.finish();
         assert_eq!(tl.initial.len(), 1);
         assert_eq!(tl.length_s, 2.0);
@@ -207,8 +211,12 @@ velocity = 0.5
             .position(|(_, e)| matches!(e, HostEvent::Midi(_)))
             .unwrap();
         assert!(tl.events[..first_midi].iter().all(|(at, _)| *at == 0));
-        assert!(tl.events.iter().any(|(at, e)| *at == 48_000
-            && *e == HostEvent::Midi(MidiInput::NoteOff { key: 50 })));
+        assert!(
+            tl.events
+                .iter()
+                .any(|(at, e)| *at == 48_000
+                    && *e == HostEvent::Midi(MidiInput::NoteOff { key: 50 }))
+        );
     }
 
     #[test]
@@ -216,7 +224,10 @@ velocity = 0.5
         let frames = FrameClock::new(48_000.0, 200.0);
         for (text, needle) in [
             ("version = 1\n[set]\nbogus = 1\n", "bogus"),
-            ("version = 1\n[[lane]]\nid = \"slide\"\npoints = [[0, 5]]\n", "slide"),
+            (
+                "version = 1\n[[lane]]\nid = \"slide\"\npoints = [[0, 5]]\n",
+                "slide",
+            ),
             ("version = 1\n[set]\nsize = \"a3\"\n", "size"),
         ] {
             let s = Script::parse(text).unwrap();
