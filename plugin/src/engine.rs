@@ -370,9 +370,7 @@ impl Engine {
         for e in sound.crumple() {
             renderer.trigger(e);
         }
-        meters
-            .crumple_events
-            .fetch_add(sound.crumple().len() as u64, Ordering::Relaxed);
+        meters.record_sound(sound);
     }
 
     /// Renders one block into `left` and `right` (same length, any length). Allocation-free in
@@ -444,6 +442,7 @@ impl Engine {
                     if snap.frames_stepped != t.last_frames {
                         t.last_frames = snap.frames_stepped;
                         self.renderer.set_frame(&snap.sound);
+                        self.meters.record_sound(&snap.sound);
                     }
                 }
                 while let Some(ev) = t.shared.events.pop() {

@@ -12,9 +12,11 @@
 //! - [`engine`]: parameter diffing, the simulation thread / lockstep stepping, the render call;
 //! - [`render`]: the audio render path (no nice-plug types);
 //! - [`state`]: the sheet saved with the project;
+//! - [`db_loader`]: the embedded or user sound database, loaded off the audio thread;
 //! - [`editor`]: the egui window;
 //! - [`offline`]: the offline renderer behind `papier-render`.
 
+pub mod db_loader;
 pub mod editor;
 pub mod engine;
 pub mod gesture_map;
@@ -84,6 +86,10 @@ pub struct Papier {
     parked: Option<(Sim, u64)>,
     /// The sound database in use.
     db: Arc<SoundDb>,
+    /// Sample rate (bits) and user path the database was prepared for.
+    db_key: Option<(u64, Option<std::path::PathBuf>)>,
+    /// Sample rate of the running engine, Hz.
+    sample_rate_hz: f64,
 }
 
 impl Default for Papier {
@@ -96,6 +102,8 @@ impl Default for Papier {
             engine: None,
             parked: None,
             db: Arc::new(SoundDb::empty()),
+            db_key: None,
+            sample_rate_hz: 48_000.0,
         }
     }
 }
@@ -166,9 +174,11 @@ impl Plugin for Papier {
             SimMode::Threaded
         };
         let rate = f64::from(buffer_config.sample_rate);
-        if !self.db.matches_rate(rate) {
-            // The embedded database, resampled for this rate (here, never on the audio thread).
-            self.db = render::default_db(rate);
+        let key = (rate.to_bits(), self.params.db.path());
+        if self.db_key.as_ref() != Some(&key) {
+            // The database resampled for this rate (here, never on the audio thread).
+            self.db = self.params.db.prepare_for_rate(rate);
+            self.db_key = Some(key);
         }
         let values = self.params.values();
         let store = self.params.sheet_store.clone();
@@ -192,6 +202,7 @@ impl Plugin for Papier {
         ) {
             Ok(engine) => {
                 self.engine = Some(engine);
+                self.sample_rate_hz = rate;
                 true
             }
             Err(e) => {
@@ -209,6 +220,7 @@ impl Plugin for Papier {
 
     fn deactivate(&mut self) {
         self.stop_engine();
+        self.params.db.drain_retired();
     }
 
     fn process(
@@ -217,6 +229,7 @@ impl Plugin for Papier {
         _aux: &mut AuxiliaryBuffers,
         context: &mut impl ProcessContext<Self>,
     ) -> ProcessStatus {
+        let started = std::time::Instant::now();
         let channels = buffer.as_slice();
         let Some(engine) = self.engine.as_mut() else {
             for c in channels.iter_mut() {
@@ -224,7 +237,20 @@ impl Plugin for Papier {
             }
             return ProcessStatus::Normal;
         };
+        // A user database loaded off-thread is swapped in; the old one leaves through the
+        // retired queue, to be dropped off the audio thread (skip the swap if that is full).
+        let loader = &self.params.db;
+        if !loader.retired.is_full()
+            && let Some(new_db) = loader.ready.pop()
+        {
+            let old = engine.swap_db(new_db.clone());
+            let _ = loader.retired.push(old);
+            self.db = new_db;
+        }
         engine.begin_block(&self.params.values());
+        while let Some(input) = self.view.gui_midi.pop() {
+            engine.midi(input, 0);
+        }
         while let Some(event) = context.next_event() {
             if let Some((input, timing)) = midi_input(&event) {
                 engine.midi(input, timing);
@@ -246,6 +272,9 @@ impl Plugin for Papier {
             }
             [] => {}
         }
+        let block_s = buffer.samples() as f64 / self.sample_rate_hz;
+        self.meters
+            .record_audio_load(started.elapsed().as_secs_f64(), block_s);
         ProcessStatus::KeepAlive
     }
 }

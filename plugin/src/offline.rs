@@ -119,14 +119,16 @@ fn load_db(
     match path {
         None => Ok(crate::render::default_db(sample_rate_hz)),
         Some(p) => {
-            let (db, warnings) = sounddb::Database::load(p)
+            let (db, state) = crate::db_loader::load(p, sample_rate_hz)
                 .map_err(|e| OfflineError::Input(format!("--db {}: {e}", p.display())))?;
-            if !quiet {
-                for w in &warnings {
+            if let crate::db_loader::DbState::Ready { warnings, .. } = &state
+                && !quiet
+            {
+                for w in warnings {
                     eprintln!("papier-render: warning: --db {}: {w}", p.display());
                 }
             }
-            Ok(Arc::new(SoundDb::prepare(&db, sample_rate_hz)))
+            Ok(db)
         }
     }
 }

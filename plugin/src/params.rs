@@ -17,7 +17,8 @@
 //! value all land on the same number (see [`sim_core::GestureParam::range`]).
 //!
 //! Besides the parameters, the saved state carries the sheet itself ([`crate::state`]) under the
-//! persisted key `sheet`, and a state format version under `state_version`.
+//! persisted key `sheet`, the user sound database folder ([`crate::db_loader`]) under
+//! `db_path`, and a state format version under `state_version`.
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicU32;
@@ -26,6 +27,7 @@ use nice_plug::prelude::*;
 use sim_core::room::{TABLE_HEIGHT_RANGE_CM, WALL_DIST_RANGE_CM};
 use sim_core::{GestureParam, Material, RoomConfig, SheetSize};
 
+use crate::db_loader::DbLoader;
 use crate::engine::ParamValues;
 use crate::state::SheetStore;
 
@@ -370,6 +372,9 @@ pub struct PapierParams {
     /// The sheet (shape and damage), saved with the project.
     #[persist = "sheet"]
     pub sheet_store: Arc<SheetStore>,
+    /// The user sound database folder (`null` = the embedded default), and its loader.
+    #[persist = "db_path"]
+    pub db: Arc<DbLoader>,
 }
 
 impl Default for PapierParams {
@@ -383,6 +388,7 @@ impl Default for PapierParams {
             gain_db: gain_param("Output Gain", 0.0),
             state_version: Arc::new(AtomicU32::new(STATE_VERSION)),
             sheet_store: Arc::new(SheetStore::default()),
+            db: Arc::new(DbLoader::default()),
         }
     }
 }

@@ -180,13 +180,13 @@ pub struct Instance {
 impl Instance {
     fn read_params(&mut self) -> Vec<ParamDesc> {
         let mut out = Vec::new();
-        let mut h = self.inst.plugin_handle();
+        let h = self.inst.plugin_handle();
         let Some(ext) = h.get_extension::<PluginParams>() else {
             return out;
         };
         for i in 0..ext.count(&h) {
             let mut buf = ParamInfoBuffer::new();
-            if let Some(info) = ext.get_info(&mut h, i, &mut buf) {
+            if let Some(info) = ext.get_info(&h, i, &mut buf) {
                 out.push(ParamDesc {
                     id: info.id,
                     name: String::from_utf8_lossy(info.name).into_owned(),

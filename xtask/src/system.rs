@@ -59,11 +59,6 @@ pub fn ensure_packages(pkgs: &[&str]) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// True when every package is installed.
-pub fn have_packages(pkgs: &[&str]) -> bool {
-    pkgs.iter().all(|p| installed(p))
-}
-
 /// The Python interpreter of `target/venv`, created and filled with [`PYTHON_PACKAGES`] if
 /// needed.
 pub fn ensure_venv(target_dir: &Path) -> anyhow::Result<PathBuf> {

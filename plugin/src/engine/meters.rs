@@ -26,6 +26,12 @@ pub struct Meters {
     pub events_dropped: AtomicU64,
     /// Crumple events delivered to the render path.
     pub crumple_events: AtomicU64,
+    /// Friction sources delivered to the render path, summed over frames.
+    pub friction_sources: AtomicU64,
+    /// Frames in which the sheet was tearing.
+    pub tear_frames: AtomicU64,
+    /// Audio-thread load: time in `process()` / block duration (f32 bits; smoothed).
+    pub audio_load_bits: AtomicU32,
     /// Interior singular vertices of the current sheet.
     pub num_singular: AtomicU32,
     /// Mean edge compression of the current sheet, % (f32 bits).
@@ -63,5 +69,36 @@ impl Meters {
     /// Output peak of the last block.
     pub fn peak(&self) -> f32 {
         f32::from_bits(self.peak_bits.load(Ordering::Relaxed))
+    }
+
+    /// Records one frame's sound input (for the events-per-second meters).
+    pub fn record_sound(&self, sound: &sim_core::SoundFrame) {
+        self.crumple_events
+            .fetch_add(sound.crumple().len() as u64, Ordering::Relaxed);
+        self.friction_sources
+            .fetch_add(sound.friction().len() as u64, Ordering::Relaxed);
+        if sound.tear.speed_m_s > 0.0 {
+            self.tear_frames.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// Records the audio thread's time for one block (one-pole smoothing over ~10 blocks).
+    pub fn record_audio_load(&self, busy_s: f64, block_s: f64) {
+        if block_s <= 0.0 {
+            return;
+        }
+        let now = (busy_s / block_s) as f32;
+        let old = f32::from_bits(self.audio_load_bits.load(Ordering::Relaxed));
+        let new = if old.is_finite() {
+            old + 0.1 * (now - old)
+        } else {
+            now
+        };
+        self.audio_load_bits.store(new.to_bits(), Ordering::Relaxed);
+    }
+
+    /// Smoothed audio-thread load (1.0 = the whole block duration).
+    pub fn audio_load(&self) -> f32 {
+        f32::from_bits(self.audio_load_bits.load(Ordering::Relaxed))
     }
 }

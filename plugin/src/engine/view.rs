@@ -13,9 +13,16 @@
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
+use crossbeam_queue::ArrayQueue;
+
 use sim_core::room::RoomConfig;
 use sim_core::sim::FrameStats;
 use sim_core::{MeshSnapshot, Sim};
+
+use crate::gesture_map::MidiInput;
+
+/// Capacity of the editor → audio message queue.
+pub const GUI_MIDI_CAPACITY: usize = 256;
 
 /// Copy the mesh every this many simulation frames (200 Hz / 3 ≈ 67 Hz).
 pub const VIEW_EVERY_FRAMES: u32 = 3;
@@ -56,7 +63,6 @@ impl ViewFrame {
 }
 
 /// State shared by the editor and the engine.
-#[derive(Default)]
 pub struct ViewShared {
     /// Set by the editor while its window is open.
     pub open: AtomicBool,
@@ -64,6 +70,20 @@ pub struct ViewShared {
     pub frames_written: AtomicU64,
     /// The consumer end of the current view buffer.
     pub output: Mutex<Option<triple_buffer::Output<ViewFrame>>>,
+    /// Messages from the editor's buttons (grab, release, reset), handled by the audio thread at
+    /// the start of its next block exactly like MIDI notes — the same command path.
+    pub gui_midi: ArrayQueue<MidiInput>,
+}
+
+impl Default for ViewShared {
+    fn default() -> Self {
+        Self {
+            open: AtomicBool::new(false),
+            frames_written: AtomicU64::new(0),
+            output: Mutex::new(None),
+            gui_midi: ArrayQueue::new(GUI_MIDI_CAPACITY),
+        }
+    }
 }
 
 /// The producer end, owned by whoever steps the sheet.
