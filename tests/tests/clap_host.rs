@@ -18,16 +18,22 @@ fn bundle() -> Bundle {
 /// Compares two saved states without printing kilobytes of bytes.
 fn assert_same_state(a: &[u8], b: &[u8], what: &str) {
     if a != b {
+        let dir = paths::scratch(&format!("state_diff_{}", what.replace(' ', "_")));
+        let _ = std::fs::write(dir.join("a.bin"), a);
+        let _ = std::fs::write(dir.join("b.bin"), b);
+        // Skip the 8-byte length prefix to show where the JSON differs.
         let pos = a
             .iter()
             .zip(b)
+            .skip(8)
             .position(|(x, y)| x != y)
-            .unwrap_or(a.len().min(b.len()));
+            .map_or(a.len().min(b.len()), |p| p + 8);
         let lo = pos.saturating_sub(60);
         panic!(
-            "{what}: states differ at byte {pos} (lengths {} and {}):\n  {}\n  {}",
+            "{what}: states differ at byte {pos} (lengths {} and {}; both in {}):\n  {}\n  {}",
             a.len(),
             b.len(),
+            dir.display(),
             String::from_utf8_lossy(&a[lo..(pos + 60).min(a.len())]),
             String::from_utf8_lossy(&b[lo..(pos + 60).min(b.len())]),
         );
@@ -199,7 +205,9 @@ fn saved_state_reloads_and_resaves_byte_identically() {
         id: crumple_level,
         value: 0.25,
     });
-    a.render(sr, 512, &[], (1.0 * sr) as u64, &events).unwrap();
+    // Long enough for the released sheet to come to rest (a sheet in motion keeps moving after
+    // reopening, as it should).
+    a.render(sr, 512, &[], (6.0 * sr) as u64, &events).unwrap();
     let s1 = a.save_state().unwrap();
     let v1 = split_state(&s1);
     assert_eq!(v1["params"]["size"], serde_json::json!({"string": "a5"}));
