@@ -41,7 +41,7 @@ use crate::room::RoomConfig;
 use crate::sound_input::Obstacle;
 
 /// Contact frequency ω_c of the penalty, rad/s.
-pub const CONTACT_OMEGA_RAD_S: f64 = 1000.0;
+pub const CONTACT_OMEGA_RAD_S: f64 = 4000.0;
 /// Slip speed below which friction behaves as viscous sticking, m/s.
 pub const STICK_SPEED_M_S: f64 = 2e-3;
 /// Speed at which a moved or switched-on obstacle plane travels to its new place, m/s.
@@ -153,6 +153,21 @@ impl Obstacles {
                     p.target_offset_m = target;
                 }
                 None => p.active = false,
+            }
+        }
+    }
+
+    /// Moves every active plane that has part of `positions` on its solid side back until the
+    /// whole set is outside (the plane then eases in). Used when a new sheet appears (new sim,
+    /// reset, size change) in a room whose wall cuts through the sheet's home place.
+    pub fn fit_outside(&mut self, positions: &[V3]) {
+        for p in &mut self.planes {
+            if !p.active {
+                continue;
+            }
+            let min_d = positions.iter().map(|x| p.distance(x)).fold(f64::INFINITY, f64::min);
+            if min_d.is_finite() && min_d < 0.0 {
+                p.offset_m += min_d - 2.0 * CONTACT_SKIN_M;
             }
         }
     }

@@ -35,11 +35,13 @@ pub mod metrics;
 pub mod physics;
 pub mod room;
 pub mod scenario;
+pub mod scenario_run;
 pub mod script;
 pub mod script_runner;
 pub mod sheet;
 pub mod sim;
 pub mod sound_input;
+pub mod stress;
 
 pub use collision::VertexContact;
 pub use control::{Command, GestureParam, GrabSlot, Material, SheetSize};

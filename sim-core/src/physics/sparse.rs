@@ -197,8 +197,9 @@ impl BlockSystem {
     }
 
     /// Scatters the blocks into the CSC values. Rows and columns of `fixed` vertices become
-    /// `diag_fixed[i] · I` (decoupled).
-    fn scatter(&mut self, fixed: &[bool], diag_fixed: &[f64]) {
+    /// `diag_fixed[i] · I` (decoupled); free vertices get `reg · diag_fixed[i]` added to their
+    /// diagonal (Levenberg–Marquardt damping).
+    fn scatter(&mut self, fixed: &[bool], diag_fixed: &[f64], reg: f64) {
         for i in 0..self.n {
             let b = &self.blocks[i];
             let s = &self.scatter[i];
@@ -206,6 +207,8 @@ impl BlockSystem {
                 for c in r..3 {
                     let v = if fixed[i] {
                         if r == c { diag_fixed[i] } else { 0.0 }
+                    } else if r == c {
+                        b[(r, c)] + reg * diag_fixed[i]
                     } else {
                         0.5 * (b[(r, c)] + b[(c, r)])
                     };
@@ -227,9 +230,10 @@ impl BlockSystem {
     }
 
     /// Assembles, factorizes and solves `A x = rhs` in place (`self.rhs` holds the solution on
-    /// success). `fixed` rows are decoupled (their solution is `rhs / diag_fixed`).
-    pub fn factorize_and_solve(&mut self, fixed: &[bool], diag_fixed: &[f64]) -> Result<(), SolveError> {
-        self.scatter(fixed, diag_fixed);
+    /// success). `fixed` rows are decoupled (their solution is `rhs / diag_fixed`); `reg`
+    /// adds `reg · diag_fixed` to the diagonal of the free rows.
+    pub fn factorize_and_solve(&mut self, fixed: &[bool], diag_fixed: &[f64], reg: f64) -> Result<(), SolveError> {
+        self.scatter(fixed, diag_fixed, reg);
         let dim = 3 * self.n;
         let sym = SymbolicSparseColMatRef::new_checked(dim, dim, &self.col_ptr, None, &self.row_idx);
         let a = SparseColMatRef::new(sym, &self.values);
@@ -284,7 +288,7 @@ mod tests {
         let rhs: Vec<f64> = (0..12).map(|k| (k as f64 * 0.37).sin()).collect();
         s.rhs.copy_from_slice(&rhs);
         let fixed = vec![false; n];
-        s.factorize_and_solve(&fixed, &[1.0; 4]).unwrap();
+        s.factorize_and_solve(&fixed, &[1.0; 4], 0.0).unwrap();
         let x = nalgebra::DVector::from_column_slice(&s.rhs);
         let r = &dense * &x - nalgebra::DVector::from_column_slice(&rhs);
         assert!(r.norm() < 1e-12, "residual {}", r.norm());
@@ -292,7 +296,7 @@ mod tests {
         // Fix vertex 1: its rows decouple; the rest is the reduced system.
         let fixed = vec![false, true, false, false];
         s.rhs.copy_from_slice(&rhs);
-        s.factorize_and_solve(&fixed, &[1.0, 2.0, 1.0, 1.0]).unwrap();
+        s.factorize_and_solve(&fixed, &[1.0, 2.0, 1.0, 1.0], 0.0).unwrap();
         for c in 0..3 {
             assert!((s.rhs[3 + c] - rhs[3 + c] / 2.0).abs() < 1e-14);
         }

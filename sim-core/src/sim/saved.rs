@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::control::{GestureParam, Material, SheetSize};
-use crate::gesture_rig::{NUM_HANDLES, RigState};
+use crate::gesture_rig::{NUM_HANDS, RigState};
 
 /// Version of [`SavedSheet`]; bump it (and migrate) whenever its meaning changes.
 ///
@@ -57,8 +57,10 @@ pub struct SavedSheet {
     pub rng: rand_pcg::Pcg32,
     /// The gesture rig.
     pub rig: RigState,
-    /// Slot handles suppressed by crumple handles.
-    pub rig_suppressed: [bool; NUM_HANDLES],
+    /// Held vertices: (vertex, hand, index of the vertex in the hand).
+    pub rig_ownership: Vec<(u32, u8, u8)>,
+    /// Slot hands suppressed by crumple hands.
+    pub rig_suppressed: [bool; NUM_HANDS],
     /// The rig's vertex ownership was pending recomputation.
     pub rig_ownership_pending: bool,
     /// Effective offsets of the obstacle planes (floor, table, wall), metres.
@@ -203,14 +205,13 @@ impl SavedSheet {
                 return Err(RestoreError::Invalid(format!("grip of slot {i} is out of range")));
             }
         }
-        for (k, h) in r.handles.iter().enumerate() {
+        for (k, h) in r.hands.iter().enumerate() {
             let nums = h
                 .pose
                 .pos_m
                 .iter()
                 .chain(&h.prev_pose.pos_m)
-                .chain(h.offsets_m.iter().flatten())
-                .chain(h.prev_offsets_m.iter().flatten());
+                .chain(h.offsets_m.iter().flatten());
             let mut ok = true;
             for c in nums {
                 ok &= finite(*c) && c.abs() <= ROOM_BOX_HALF_M;
@@ -220,8 +221,9 @@ impl SavedSheet {
                 ok &= finite(n2) && (n2 - 1.0).abs() < 1e-6;
             }
             ok &= finite(h.speed_m_s) && (0.0..=100.0).contains(&h.speed_m_s);
+            ok &= finite(h.caution) && (0.0..=1.0).contains(&h.caution);
             if !ok {
-                return Err(RestoreError::Invalid(format!("handle {k} state is out of range")));
+                return Err(RestoreError::Invalid(format!("hand {k} state is out of range")));
             }
         }
         for j in &r.crumple_jitter {
