@@ -363,7 +363,7 @@ impl GestureRig {
         let was = self.state.held[slot.index()].is_some();
         self.state.held[slot.index()] = Some(grip);
         if !was {
-            self.state.next_seq += 1;
+            self.state.next_seq = self.state.next_seq.saturating_add(1);
         }
         for k in 0..NUM_SLOT_HANDS {
             if SLOT_OF[k] == slot {

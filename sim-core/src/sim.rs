@@ -394,7 +394,7 @@ impl Sim {
     /// Steps one frame.
     pub fn step(&mut self, out: &mut FrameOutput) {
         out.sound.clear();
-        self.frame += 1;
+        self.frame = self.frame.saturating_add(1);
         out.sound.frame = self.frame;
         out.sound.time_s = self.time_s();
         if self.asleep {
@@ -444,7 +444,7 @@ impl Sim {
             && !self.rig.is_moving()
             && !self.obstacles.is_moving()
             && self.last_metrics.max_speed_m_s < SLEEP_SPEED_M_S;
-        self.quiet_frames = if quiet { self.quiet_frames + 1 } else { 0 };
+        self.quiet_frames = if quiet { self.quiet_frames.saturating_add(1) } else { 0 };
         if self.quiet_frames >= SLEEP_FRAMES {
             self.asleep = true;
             for v in &mut self.sheet.sp.vel {

@@ -23,6 +23,9 @@ pub const SAVED_SHEET_VERSION: u32 = 2;
 
 /// Half-extent of the room box positions must lie in, metres.
 pub const ROOM_BOX_HALF_M: f64 = 50.0;
+/// Largest accepted frame counter and grab sequence number (2⁵³: exact in f64, centuries
+/// of frames).
+pub const MAX_SAVED_COUNTER: u64 = 1 << 53;
 /// Largest accepted saved speed, m/s.
 pub const MAX_SAVED_SPEED_M_S: f64 = 200.0;
 
@@ -109,6 +112,12 @@ impl SavedSheet {
     pub(crate) fn validate_fields(&self) -> Result<(), RestoreError> {
         if self.version != SAVED_SHEET_VERSION {
             return Err(RestoreError::Version(self.version));
+        }
+        if self.frame > MAX_SAVED_COUNTER
+            || self.rig.next_seq > MAX_SAVED_COUNTER
+            || self.rig.grab_seq.iter().any(|&q| q > self.rig.next_seq)
+        {
+            return Err(RestoreError::Invalid("frame or grab counters are out of range".into()));
         }
         let n = self.pattern_m.len();
         if n < 3 {
