@@ -13,7 +13,11 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut cfg = SimConfig::default();
     if let Some(k) = args.first() {
-        cfg.solver.kind = if k == "xpbd" { SolverKind::Xpbd } else { SolverKind::Newton };
+        cfg.solver.kind = if k == "xpbd" {
+            SolverKind::Xpbd
+        } else {
+            SolverKind::Newton
+        };
     }
     if let Some(s) = args.get(1) {
         cfg.solver.substeps = s.parse().expect("substeps");

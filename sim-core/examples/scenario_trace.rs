@@ -13,7 +13,11 @@ fn main() {
     let name = args.first().expect("scenario name");
     let mut cfg = SimConfig::default();
     if let Some(k) = args.get(1) {
-        cfg.solver.kind = if k == "xpbd" { SolverKind::Xpbd } else { SolverKind::Newton };
+        cfg.solver.kind = if k == "xpbd" {
+            SolverKind::Xpbd
+        } else {
+            SolverKind::Newton
+        };
     }
     if let Some(s) = args.get(2) {
         cfg.solver.substeps = s.parse().expect("substeps");
@@ -22,7 +26,8 @@ fn main() {
         cfg.solver.iterations = s.parse().expect("iterations");
     }
     let script = scenario::get(name).expect("scenario");
-    let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default()).expect("runner");
+    let mut runner =
+        ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default()).expect("runner");
     let mut sim = runner.start(cfg);
     let mut out = FrameOutput::default();
     let mut cmds = Vec::new();

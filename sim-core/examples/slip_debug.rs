@@ -10,7 +10,10 @@ fn main() {
     for slot in [GrabSlot::Back, GrabSlot::Front] {
         sim.apply(Command::Grab { slot, grip: 1.0 });
     }
-    sim.apply(Command::Gesture { param: GestureParam::Lift, value: 1.0 });
+    sim.apply(Command::Gesture {
+        param: GestureParam::Lift,
+        value: 1.0,
+    });
     let mut out = FrameOutput::default();
     let mut forces = vec![sim_core::math::V3::zeros(); sim.sheet().sp.num_vertices()];
     for f in 0..120 {
@@ -24,7 +27,13 @@ fn main() {
         let fsum: f64 = held.iter().map(|&v| forces[v as usize].norm()).sum();
         let hs: Vec<String> = sim.rig().state.hands[..4]
             .iter()
-            .map(|h| format!("{:.3}{}", h.pose.pos_m[2], if h.slipping { "s" } else { "" }))
+            .map(|h| {
+                format!(
+                    "{:.3}{}",
+                    h.pose.pos_m[2],
+                    if h.slipping { "s" } else { "" }
+                )
+            })
             .collect();
         if f == 119 {
             let sp = &sim.sheet().sp;
@@ -34,11 +43,17 @@ fn main() {
                 let n = g.norm();
                 if n > 0.02 {
                     let h: Vec<bool> = tri.iter().map(|v| held.contains(v)).collect();
-                    let pat: Vec<[f64; 2]> = tri.iter().map(|&v| [sp.pattern[v as usize].x, sp.pattern[v as usize].y]).collect();
+                    let pat: Vec<[f64; 2]> = tri
+                        .iter()
+                        .map(|&v| [sp.pattern[v as usize].x, sp.pattern[v as usize].y])
+                        .collect();
                     println!("tri {t} |G| {n:.3} held {h:?} pattern {pat:?}");
                 }
             }
         }
-        println!("f {f} strain {:.3} it {} |F|sum {fsum:.2} handles z {hs:?}", out.stats.max_strain, out.stats.iterations);
+        println!(
+            "f {f} strain {:.3} it {} |F|sum {fsum:.2} handles z {hs:?}",
+            out.stats.max_strain, out.stats.iterations
+        );
     }
 }

@@ -7,12 +7,19 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let seed: u64 = args.first().map_or(1, |s| s.parse().unwrap());
     let frames: u64 = args.get(1).map_or(1000, |s| s.parse().unwrap());
-    let cfg = StressConfig { seed, frames, sim: SimConfig::default(), ..StressConfig::default() };
+    let cfg = StressConfig {
+        seed,
+        frames,
+        sim: SimConfig::default(),
+        ..StressConfig::default()
+    };
     let mut prev: Vec<V3> = Vec::new();
     let mut prev_pos: Vec<V3> = Vec::new();
     let r = run_with(&cfg, |f, sim| {
         let sp = &sim.sheet().sp;
-        let normals: Vec<V3> = (0..sp.num_triangles()).map(|t| sp.tri_normal(t).normalize()).collect();
+        let normals: Vec<V3> = (0..sp.num_triangles())
+            .map(|t| sp.tri_normal(t).normalize())
+            .collect();
         if f + 3 >= frames && prev.len() == normals.len() {
             let held: Vec<u32> = sim.rig().held_vertices().collect();
             for t in 0..normals.len() {
@@ -31,7 +38,10 @@ fn main() {
             }
             println!("frame {f}: held {held:?}");
             for pl in sim.obstacles().planes.iter() {
-                println!("   {:?} active {} offset {} target {}", pl.kind, pl.active, pl.offset_m, pl.target_offset_m);
+                println!(
+                    "   {:?} active {} offset {} target {}",
+                    pl.kind, pl.active, pl.offset_m, pl.target_offset_m
+                );
             }
             let mut tri_strain: Vec<(f64, usize)> = (0..sp.num_triangles())
                 .map(|t| {
@@ -51,7 +61,10 @@ fn main() {
             println!("   zmin {zmin}");
             for (k, h) in sim.rig().state.hands.iter().enumerate() {
                 if h.active {
-                    println!("   handle {k} pose {:?} prev {:?} slipping {}", h.pose.pos_m, h.prev_pose.pos_m, h.slipping);
+                    println!(
+                        "   handle {k} pose {:?} prev {:?} slipping {}",
+                        h.pose.pos_m, h.prev_pose.pos_m, h.slipping
+                    );
                 }
             }
         }

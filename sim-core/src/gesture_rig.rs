@@ -298,11 +298,32 @@ impl GestureRig {
         let pinch = |a: V2, b: V2| HandDef::new(sheet, &[at(a), at(b)]);
         let fb = |y: f64| pinch(V2::new(-hw + 0.25 * w, y), V2::new(-hw + 0.75 * w, y));
         let side = |x: f64| pinch(V2::new(x, -hl + 0.25 * l), V2::new(x, -hl + 0.75 * l));
-        self.info[0] = HandInfo { def: fb(hl), kind: HandKind::FrontBack, slide: V2::new(0.0, -l / 4.0) };
-        self.info[1] = HandInfo { def: fb(-hl), kind: HandKind::FrontBack, slide: V2::new(0.0, l / 4.0) };
-        self.info[2] = HandInfo { def: side(-hw), kind: HandKind::Side, slide: V2::new(w / 4.0, 0.0) };
-        self.info[3] = HandInfo { def: side(hw), kind: HandKind::Side, slide: V2::new(-w / 4.0, 0.0) };
-        let corners = [V2::new(-hw, -hl), V2::new(hw, -hl), V2::new(hw, hl), V2::new(-hw, hl)];
+        self.info[0] = HandInfo {
+            def: fb(hl),
+            kind: HandKind::FrontBack,
+            slide: V2::new(0.0, -l / 4.0),
+        };
+        self.info[1] = HandInfo {
+            def: fb(-hl),
+            kind: HandKind::FrontBack,
+            slide: V2::new(0.0, l / 4.0),
+        };
+        self.info[2] = HandInfo {
+            def: side(-hw),
+            kind: HandKind::Side,
+            slide: V2::new(w / 4.0, 0.0),
+        };
+        self.info[3] = HandInfo {
+            def: side(hw),
+            kind: HandKind::Side,
+            slide: V2::new(-w / 4.0, 0.0),
+        };
+        let corners = [
+            V2::new(-hw, -hl),
+            V2::new(hw, -hl),
+            V2::new(hw, hl),
+            V2::new(-hw, hl),
+        ];
         for (k, c) in corners.iter().enumerate() {
             self.info[4 + k] = HandInfo {
                 def: HandDef::new(sheet, &[at(*c)]),
@@ -316,7 +337,12 @@ impl GestureRig {
                 slide: V2::zeros(),
             };
         }
-        let mids = [V2::new(0.0, -hl), V2::new(hw, 0.0), V2::new(0.0, hl), V2::new(-hw, 0.0)];
+        let mids = [
+            V2::new(0.0, -hl),
+            V2::new(hw, 0.0),
+            V2::new(0.0, hl),
+            V2::new(-hw, 0.0),
+        ];
         for (k, m) in mids.iter().enumerate() {
             let v = sheet.nearest_vertex(*m, true);
             self.info[12 + k] = HandInfo {
@@ -333,7 +359,8 @@ impl GestureRig {
         for c in &mut self.claim {
             *c = u8::MAX;
         }
-        self.adj_offsets.clone_from(&sheet.sp.topo.adjacency_offsets);
+        self.adj_offsets
+            .clone_from(&sheet.sp.topo.adjacency_offsets);
         self.adj.clone_from(&sheet.sp.topo.adjacency);
         self.drop.clear();
         self.drop.resize(NUM_HANDS * MAX_HAND_VERTICES, false);
@@ -358,15 +385,19 @@ impl GestureRig {
 
     /// A hand takes hold of a slot (a second grab of a held slot only changes the grip).
     pub fn grab(&mut self, slot: GrabSlot, grip: f32, pos: &[V3]) {
-        let grip = if grip.is_finite() { grip.clamp(0.0, 1.0) } else { 0.5 };
+        let grip = if grip.is_finite() {
+            grip.clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
         let speed = grip_speed_m_s(grip);
         let was = self.state.held[slot.index()].is_some();
         self.state.held[slot.index()] = Some(grip);
         if !was {
             self.state.next_seq = self.state.next_seq.saturating_add(1);
         }
-        for k in 0..NUM_SLOT_HANDS {
-            if SLOT_OF[k] == slot {
+        for (k, &s) in SLOT_OF.iter().enumerate() {
+            if s == slot {
                 if was {
                     self.state.hands[k].speed_m_s = speed;
                 } else {
@@ -382,8 +413,8 @@ impl GestureRig {
     /// The hand holding `slot` lets go.
     pub fn release(&mut self, slot: GrabSlot) {
         self.state.held[slot.index()] = None;
-        for k in 0..NUM_SLOT_HANDS {
-            if SLOT_OF[k] == slot {
+        for (k, &s) in SLOT_OF.iter().enumerate() {
+            if s == slot {
                 self.state.hands[k].active = false;
             }
         }
@@ -450,7 +481,8 @@ impl GestureRig {
                     rng.random_range(0.6..1.4),
                 ];
                 let def = self.info[NUM_SLOT_HANDS + k].def;
-                self.state.hands[NUM_SLOT_HANDS + k] = HandState::grab(&def, pos, CRUMPLE_SPEED_M_S);
+                self.state.hands[NUM_SLOT_HANDS + k] =
+                    HandState::grab(&def, pos, CRUMPLE_SPEED_M_S);
             }
             self.ownership_dirty = true;
         } else if self.state.crumple_active && c_cmd <= 0.0 && crumple_smoothed <= 0.0 {
@@ -464,7 +496,8 @@ impl GestureRig {
             self.recompute_ownership(pos);
         }
 
-        self.state.shake_phase_rad = (self.state.shake_phase_rad + std::f64::consts::TAU * rate * dt_s)
+        self.state.shake_phase_rad = (self.state.shake_phase_rad
+            + std::f64::consts::TAU * rate * dt_s)
             .rem_euclid(std::f64::consts::TAU);
         let mut moved = false;
         for k in 0..NUM_HANDS {
@@ -495,7 +528,11 @@ impl GestureRig {
             };
             let cur = self.state.smoothed[i];
             let d = target - cur;
-            self.state.smoothed[i] = if d.abs() <= rate { target } else { cur + rate * d.signum() };
+            self.state.smoothed[i] = if d.abs() <= rate {
+                target
+            } else {
+                cur + rate * d.signum()
+            };
         }
     }
 
@@ -507,7 +544,10 @@ impl GestureRig {
         let l = self.length_m;
         let lp = self.l_paper();
         let z0 = self.home_z_m;
-        let shake = g(GestureParam::ShakeDepth) * SHAKE_AMPLITUDE_FRAC * l * self.state.shake_phase_rad.sin();
+        let shake = g(GestureParam::ShakeDepth)
+            * SHAKE_AMPLITUDE_FRAC
+            * l
+            * self.state.shake_phase_rad.sin();
         if info.kind == HandKind::Crumple {
             let j = k - NUM_SLOT_HANDS;
             let c = g(GestureParam::Crumple);
@@ -643,7 +683,10 @@ impl GestureRig {
                 }
                 let def = &self.info[k].def;
                 let nm = def.num_mains as usize;
-                if def.vertices[..nm].iter().any(|&v| self.claim[v as usize] != u8::MAX) {
+                if def.vertices[..nm]
+                    .iter()
+                    .any(|&v| self.claim[v as usize] != u8::MAX)
+                {
                     self.suppressed[k] = true;
                     continue;
                 }
@@ -671,7 +714,10 @@ impl GestureRig {
         // them lets the paper fold instead).
         for (i, &(v, k, j)) in self.ownership.iter().enumerate() {
             let neighbour = (j as usize) >= self.info[k as usize].def.num_mains as usize;
-            let (a, b) = (self.adj_offsets[v as usize] as usize, self.adj_offsets[v as usize + 1] as usize);
+            let (a, b) = (
+                self.adj_offsets[v as usize] as usize,
+                self.adj_offsets[v as usize + 1] as usize,
+            );
             self.drop[i] = neighbour
                 && self.adj[a..b].iter().any(|&u| {
                     let c = self.claim[u as usize];
@@ -688,8 +734,8 @@ impl GestureRig {
             keep
         });
         // A hand that gets its vertices back starts again from where the sheet is.
-        for k in 0..NUM_HANDS {
-            if was_suppressed[k] && !self.suppressed[k] && self.state.hands[k].active {
+        for (k, &was) in was_suppressed.iter().enumerate() {
+            if was && !self.suppressed[k] && self.state.hands[k].active {
                 let def = self.info[k].def;
                 self.state.hands[k].reanchor(&def, pos);
             }
@@ -751,7 +797,11 @@ impl GestureRig {
     /// The ownership (vertex, hand, index in the hand), the suppression flags and whether the
     /// ownership is pending recomputation (saved with the sheet for exact continuation).
     pub fn ownership_state(&self) -> (Vec<(u32, u8, u8)>, [bool; NUM_HANDS], bool) {
-        (self.ownership.clone(), self.suppressed, self.ownership_dirty)
+        (
+            self.ownership.clone(),
+            self.suppressed,
+            self.ownership_dirty,
+        )
     }
 
     /// Restores [`Self::ownership_state`] after `state` was restored. Returns an error message
@@ -776,7 +826,9 @@ impl GestureRig {
                 && self.info[k as usize].def.vertices[j as usize] == v
                 && self.claim[v as usize] == u8::MAX;
             if !ok {
-                return Err(format!("held vertex entry ({v}, {k}, {j}) does not fit the sheet"));
+                return Err(format!(
+                    "held vertex entry ({v}, {k}, {j}) does not fit the sheet"
+                ));
             }
             self.claim[v as usize] = k;
             self.ownership.push((v, k, j));
@@ -803,10 +855,21 @@ mod tests {
     fn setup() -> (Sheet, GestureRig, Obstacles, rand_pcg::Pcg32) {
         let sheet = Sheet::new_flat(SheetSize::A4, MeshConfig::default(), 0.75, 0.1);
         let rig = GestureRig::new(&sheet, 0.75);
-        (sheet, rig, Obstacles::new(&RoomConfig::default()), rand_pcg::Pcg32::seed_from_u64(1))
+        (
+            sheet,
+            rig,
+            Obstacles::new(&RoomConfig::default()),
+            rand_pcg::Pcg32::seed_from_u64(1),
+        )
     }
 
-    fn run(rig: &mut GestureRig, sheet: &Sheet, obs: &Obstacles, rng: &mut rand_pcg::Pcg32, frames: usize) {
+    fn run(
+        rig: &mut GestureRig,
+        sheet: &Sheet,
+        obs: &Obstacles,
+        rng: &mut rand_pcg::Pcg32,
+        frames: usize,
+    ) {
         for _ in 0..frames {
             rig.advance_frame(0.005, 1.0, &sheet.sp.pos, obs, rng);
         }
@@ -876,7 +939,11 @@ mod tests {
         let (front, back) = (d.vertices[0] as usize, d.vertices[1] as usize);
         let l = sheet.length_m;
         assert!(sheet.sp.pattern[front].y < sheet.sp.pattern[back].y);
-        assert!((target[front].z - (0.75 + 0.25 * l)).abs() < 1e-9, "front finger up by L/4: {}", target[front].z);
+        assert!(
+            (target[front].z - (0.75 + 0.25 * l)).abs() < 1e-9,
+            "front finger up by L/4: {}",
+            target[front].z
+        );
         assert!((target[back].z - 0.75).abs() < 1e-9, "back finger stays");
         // Rigid: the fingers keep their pattern distance.
         let dp = (sheet.sp.pattern[front] - sheet.sp.pattern[back]).norm();
@@ -899,7 +966,10 @@ mod tests {
         let c0 = rig.info[8].def.vertices[0] as usize;
         let r = V2::new(target[c0].x, target[c0].y).norm();
         let r0 = sheet.sp.pattern[c0].norm();
-        assert!(r < 0.5 * r0, "corner squeezed towards the centre: {r} vs {r0}");
+        assert!(
+            r < 0.5 * r0,
+            "corner squeezed towards the centre: {r} vs {r0}"
+        );
         rig.set_gesture(GestureParam::Crumple, 0.0);
         run(&mut rig, &sheet, &obs, &mut rng, 400);
         assert!(!rig.state.crumple_active);
@@ -922,8 +992,13 @@ mod tests {
         rig.grab(GrabSlot::Front, 1.0, &sheet.sp.pos);
         rig.set_gesture(GestureParam::Twist, 1.0);
         rig.advance_frame(0.005, 1.0, &sheet.sp.pos, &obs, &mut rng);
-        assert!(rig.state.smoothed[GestureParam::Twist.index()] <= ROTATION_CLAMP_RAD / std::f64::consts::PI + 1e-12);
+        assert!(
+            rig.state.smoothed[GestureParam::Twist.index()]
+                <= ROTATION_CLAMP_RAD / std::f64::consts::PI + 1e-12
+        );
         let h = &rig.state.hands[1];
-        assert!((h.pose.pos() - h.prev_pose.pos()).norm() <= TRAVEL_CLAMP_FRAC * sheet.length_m + 1e-12);
+        assert!(
+            (h.pose.pos() - h.prev_pose.pos()).norm() <= TRAVEL_CLAMP_FRAC * sheet.length_m + 1e-12
+        );
     }
 }

@@ -106,7 +106,10 @@ impl HandleDef {
                     nb += 1;
                 }
             }
-            let (a, b) = (sp.pattern[bn[0] as usize] - p, sp.pattern[bn[1] as usize] - p);
+            let (a, b) = (
+                sp.pattern[bn[0] as usize] - p,
+                sp.pattern[bn[1] as usize] - p,
+            );
             let straight = (a.normalize().dot(&b.normalize()) + 1.0).abs() < 1e-6;
             push(&mut out, bn[0]);
             push(&mut out, bn[1]);
@@ -452,9 +455,18 @@ mod tests {
         let dc = HandleDef::at_vertex(&s, corner);
         let db = HandleDef::at_vertex(&s, border);
         let di = HandleDef::at_vertex(&s, inner);
-        assert_eq!((dc.location, dc.num_neighbours), (HandleLocation::Corner, 2));
-        assert_eq!((db.location, db.num_neighbours), (HandleLocation::Border, 3));
-        assert_eq!((di.location, di.num_neighbours), (HandleLocation::Interior, 4));
+        assert_eq!(
+            (dc.location, dc.num_neighbours),
+            (HandleLocation::Corner, 2)
+        );
+        assert_eq!(
+            (db.location, db.num_neighbours),
+            (HandleLocation::Border, 3)
+        );
+        assert_eq!(
+            (di.location, di.num_neighbours),
+            (HandleLocation::Interior, 4)
+        );
         // The border handle's third neighbour is inward (towards −y from the back edge).
         assert!(db.home_offsets[2].y < 0.0);
         // Neighbours of the corner span a plane.
@@ -466,7 +478,10 @@ mod tests {
         let s = sheet();
         let va = s.nearest_vertex(V2::new(-0.05, -0.1485), true);
         let vb = s.nearest_vertex(V2::new(0.05, -0.1485), true);
-        let hand = HandDef::new(&s, &[HandleDef::at_vertex(&s, va), HandleDef::at_vertex(&s, vb)]);
+        let hand = HandDef::new(
+            &s,
+            &[HandleDef::at_vertex(&s, va), HandleDef::at_vertex(&s, vb)],
+        );
         assert_eq!(hand.num_mains, 2);
         assert!(hand.num_vertices >= 7);
         // Bend the sheet a little before grabbing.
@@ -479,7 +494,10 @@ mod tests {
         for k in 0..hand.num_vertices as usize {
             assert!(h.holds(k), "a rigidly moved sheet is held everywhere");
             let p = h.held_position(k, 1.0);
-            assert!((p - pos[hand.vertices[k] as usize]).norm() < 1e-9, "grab moved vertex {k}");
+            assert!(
+                (p - pos[hand.vertices[k] as usize]).norm() < 1e-9,
+                "grab moved vertex {k}"
+            );
         }
         // Travel towards a target 10 cm up with the identity frame: clamped per frame.
         let target = Pose::new(h.pose.pos() + V3::new(0.0, 0.0, 0.1), Rot::identity());

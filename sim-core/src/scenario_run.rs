@@ -106,7 +106,11 @@ pub fn run_script(script: &Script, base: SimConfig, timed: bool) -> Result<RunSu
     let mut out = FrameOutput::default();
     let mut cmds = Vec::with_capacity(64);
     let mut s = RunSummary {
-        step_ns: Vec::with_capacity(if timed { runner.num_frames() as usize } else { 0 }),
+        step_ns: Vec::with_capacity(if timed {
+            runner.num_frames() as usize
+        } else {
+            0
+        }),
         ..RunSummary::default()
     };
     let (mut iters, mut substeps) = (0u64, 0u64);

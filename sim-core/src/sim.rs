@@ -44,9 +44,7 @@ pub use saved::{RestoreError, SAVED_SHEET_VERSION, SavedSheet};
 
 use rand::SeedableRng;
 
-use crate::collision::{
-    CONTACT_SKIN_M, Obstacles, TOUCH_DIST_M, VertexContact, penalty_stiffness,
-};
+use crate::collision::{CONTACT_SKIN_M, Obstacles, TOUCH_DIST_M, VertexContact, penalty_stiffness};
 use crate::control::{Command, GestureParam, Material, SheetSize};
 use crate::gesture_rig::GestureRig;
 use crate::material::PaperMaterial;
@@ -193,7 +191,12 @@ impl Sim {
     pub fn new(cfg: SimConfig) -> Self {
         let cfg = cfg.sanitized();
         let material = PaperMaterial::of(cfg.material);
-        let sheet = Sheet::new_flat(cfg.size, cfg.mesh, cfg.room.home_height_m(), material.areal_density_kg_m2);
+        let sheet = Sheet::new_flat(
+            cfg.size,
+            cfg.mesh,
+            cfg.room.home_height_m(),
+            material.areal_density_kg_m2,
+        );
         let mut sim = Self::with_sheet(cfg, sheet);
         sim.asleep = cfg.room.table && !sim.obstacles.is_moving();
         sim
@@ -331,7 +334,8 @@ impl Sim {
             self.rig.state.hands[k].active = held.hands[k].active;
             self.rig.state.hands[k].speed_m_s = held.hands[k].speed_m_s;
         }
-        self.rig.rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
+        self.rig
+            .rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
         self.wake();
     }
 
@@ -374,7 +378,9 @@ impl Sim {
                     self.cfg.material = m;
                     self.material = PaperMaterial::of(m);
                     self.params = PhysParams::new(&self.material, &self.cfg.solver);
-                    self.sheet.sp.set_areal_density(self.material.areal_density_kg_m2);
+                    self.sheet
+                        .sp
+                        .set_areal_density(self.material.areal_density_kg_m2);
                     self.wake();
                 }
             }
@@ -405,15 +411,20 @@ impl Sim {
         let dt = 1.0 / self.cfg.frame_rate_hz;
         let frame_scale = DEFAULT_FRAME_RATE_HZ / self.cfg.frame_rate_hz;
         let planes_moved = self.obstacles.ease(dt);
-        let handles_moved = self
-            .rig
-            .advance_frame(dt, frame_scale, &self.sheet.sp.pos, &self.obstacles, &mut self.rng);
+        let handles_moved = self.rig.advance_frame(
+            dt,
+            frame_scale,
+            &self.sheet.sp.pos,
+            &self.obstacles,
+            &mut self.rng,
+        );
         let n_sub = self.cfg.solver.substeps;
         let h = dt / f64::from(n_sub);
         let (mut iterations, mut recoveries, mut halvings) = (0u32, 0u32, 0u32);
         for s in 1..=n_sub {
             let frac = f64::from(s) / f64::from(n_sub);
-            self.rig.fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
+            self.rig
+                .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
             let r = self.physics.substep(
                 &mut self.sheet.sp,
                 Kinematics {
@@ -444,7 +455,11 @@ impl Sim {
             && !self.rig.is_moving()
             && !self.obstacles.is_moving()
             && self.last_metrics.max_speed_m_s < SLEEP_SPEED_M_S;
-        self.quiet_frames = if quiet { self.quiet_frames.saturating_add(1) } else { 0 };
+        self.quiet_frames = if quiet {
+            self.quiet_frames.saturating_add(1)
+        } else {
+            0
+        };
         if self.quiet_frames >= SLEEP_FRAMES {
             self.asleep = true;
             for v in &mut self.sheet.sp.vel {
@@ -509,7 +524,10 @@ impl Sim {
     /// geometry layer's enrichment (×2).
     pub fn mesh_capacity(&self) -> (usize, usize) {
         let (v, t) = self.mesh_capacity;
-        (v.max(self.sheet.sp.num_vertices()), t.max(self.sheet.sp.num_triangles()))
+        (
+            v.max(self.sheet.sp.num_vertices()),
+            t.max(self.sheet.sp.num_triangles()),
+        )
     }
 
     /// Copies the mesh out (no allocation when `out` has the capacity).
@@ -570,11 +588,20 @@ impl Sim {
         cfg.seed = saved.seed;
         let material = PaperMaterial::of(cfg.material);
         let pattern = Pattern {
-            points: saved.pattern_m.iter().map(|p| V2::new(p[0], p[1])).collect(),
+            points: saved
+                .pattern_m
+                .iter()
+                .map(|p| V2::new(p[0], p[1]))
+                .collect(),
             triangles: saved.triangles.clone(),
         };
-        let sheet = Sheet::from_pattern(cfg.size, &pattern, cfg.room.home_height_m(), material.areal_density_kg_m2)
-            .map_err(|e| RestoreError::BadMesh(e.to_string()))?;
+        let sheet = Sheet::from_pattern(
+            cfg.size,
+            &pattern,
+            cfg.room.home_height_m(),
+            material.areal_density_kg_m2,
+        )
+        .map_err(|e| RestoreError::BadMesh(e.to_string()))?;
         let ne = sheet.sp.num_edges();
         if saved.edge_rest_angle_rad.len() != ne || saved.edge_damage.len() != ne {
             return Err(RestoreError::Invalid(format!(
@@ -592,7 +619,8 @@ impl Sim {
             for (i, v) in saved.velocities_m_s.iter().enumerate() {
                 sp.vel[i] = V3::new(v[0], v[1], v[2]);
             }
-            sp.edge_rest_angle.copy_from_slice(&saved.edge_rest_angle_rad);
+            sp.edge_rest_angle
+                .copy_from_slice(&saved.edge_rest_angle_rad);
             sp.edge_damage.copy_from_slice(&saved.edge_damage);
             sp.singular.clone_from(&saved.singular_vertices);
         }
@@ -613,7 +641,11 @@ impl Sim {
         sim.obstacles.set_room(&room, &sim.sheet.sp.pos);
         sim.rig.state = saved.rig.clone();
         sim.rig
-            .restore_ownership(&saved.rig_ownership, saved.rig_suppressed, saved.rig_ownership_pending)
+            .restore_ownership(
+                &saved.rig_ownership,
+                saved.rig_suppressed,
+                saved.rig_ownership_pending,
+            )
             .map_err(RestoreError::Invalid)?;
         sim.metrics.reset_normals(&sim.sheet.sp);
         sim.update_contacts();
@@ -662,7 +694,7 @@ mod tests {
         assert!(zmax > 0.75 + 0.1, "front edge lifted: {zmax}");
         assert_eq!(out.stats.num_flipped, 0);
         assert_eq!(out.stats.recoveries, 0);
-        assert!(m.tags.iter().any(|t| *t == VertexTag::Handle));
+        assert!(m.tags.contains(&VertexTag::Handle));
     }
 
     #[test]
@@ -685,7 +717,13 @@ mod tests {
             worst = worst.max(sim.metrics().max_strain);
         }
         assert!(worst < 0.08, "strain {worst}");
-        let zmax = sim.sheet().sp.pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        let zmax = sim
+            .sheet()
+            .sp
+            .pos
+            .iter()
+            .map(|p| p.z)
+            .fold(f64::MIN, f64::max);
         assert!(zmax > 0.8, "the front still went up: {zmax}");
     }
 
@@ -709,7 +747,13 @@ mod tests {
             frames += 1;
         }
         assert!(sim.is_asleep(), "asleep after {frames} frames");
-        let zmax = sim.sheet().sp.pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        let zmax = sim
+            .sheet()
+            .sp
+            .pos
+            .iter()
+            .map(|p| p.z)
+            .fold(f64::MIN, f64::max);
         assert!(zmax < 0.02, "on the floor: {zmax}");
         assert!(sim.contacts().iter().filter(|c| c.in_contact).count() > 10);
         assert!(

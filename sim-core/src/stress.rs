@@ -254,10 +254,10 @@ fn check(sim: &Sim, out: &FrameOutput) -> Option<String> {
         return Some(format!("{} recovered substeps", st.recoveries));
     }
     let m = sim.metrics();
-    if !(m.max_speed_m_s <= MAX_SPEED_M_S) {
+    if m.max_speed_m_s.is_nan() || m.max_speed_m_s > MAX_SPEED_M_S {
         return Some(format!("speed {} m/s", m.max_speed_m_s));
     }
-    if !(m.max_strain <= MAX_STRAIN) {
+    if m.max_strain.is_nan() || m.max_strain > MAX_STRAIN {
         return Some(format!("strain {}", m.max_strain));
     }
     if m.num_degenerate > 0 {

@@ -13,7 +13,10 @@ fn hashes(name: &str, seed: Option<u64>, kind: SolverKind) -> Vec<u64> {
     let mut script = scenario::get(name).unwrap();
     if let Some(s) = seed {
         script.set.retain(|(k, _)| k != "seed");
-        script.set.push(("seed".into(), sim_core::script::ScriptValue::Number(s as f64)));
+        script.set.push((
+            "seed".into(),
+            sim_core::script::ScriptValue::Number(s as f64),
+        ));
     }
     let mut base = SimConfig::default();
     base.solver.kind = kind;

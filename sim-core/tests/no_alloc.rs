@@ -70,18 +70,33 @@ fn exercise(sim: &mut Sim, out: &mut FrameOutput, snap: &mut MeshSnapshot) {
         (GestureParam::ShakeRateHz, 5.0),
         (GestureParam::TearAmount, 0.5),
     ];
-    sim.apply(Command::Grab { slot: GrabSlot::Back, grip: 0.7 });
-    sim.apply(Command::Grab { slot: GrabSlot::Front, grip: 0.9 });
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Back,
+        grip: 0.7,
+    });
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Front,
+        grip: 0.9,
+    });
     for (g, v) in gestures {
         sim.apply(Command::Gesture { param: g, value: v });
     }
-    sim.apply(Command::Gesture { param: GestureParam::Lift, value: f32::NAN });
+    sim.apply(Command::Gesture {
+        param: GestureParam::Lift,
+        value: f32::NAN,
+    });
     for _ in 0..120 {
         sim.step(out);
     }
     sim.write_mesh(snap);
-    sim.apply(Command::Grab { slot: GrabSlot::Corners, grip: 0.3 });
-    sim.apply(Command::Gesture { param: GestureParam::Crumple, value: 0.8 });
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Corners,
+        grip: 0.3,
+    });
+    sim.apply(Command::Gesture {
+        param: GestureParam::Crumple,
+        value: 0.8,
+    });
     sim.apply(Command::Material(Material::Banknote));
     sim.apply(Command::Seed(99));
     sim.apply(Command::Room(RoomConfig {
@@ -93,8 +108,13 @@ fn exercise(sim: &mut Sim, out: &mut FrameOutput, snap: &mut MeshSnapshot) {
     for _ in 0..150 {
         sim.step(out);
     }
-    sim.apply(Command::Release { slot: GrabSlot::Back });
-    sim.apply(Command::Gesture { param: GestureParam::Crumple, value: 0.0 });
+    sim.apply(Command::Release {
+        slot: GrabSlot::Back,
+    });
+    sim.apply(Command::Gesture {
+        param: GestureParam::Crumple,
+        value: 0.0,
+    });
     sim.apply(Command::ReleaseAll);
     for _ in 0..200 {
         sim.step(out);

@@ -30,12 +30,19 @@ fn json(s: &SavedSheet) -> String {
 
 #[test]
 fn json_round_trip_is_byte_identical_and_continues_bit_identically() {
-    for (name, frames) in [("s1_slide_release_pinch", 250), ("c5_full_crumple", 300), ("s3_wiggle_near_wall", 333)] {
+    for (name, frames) in [
+        ("s1_slide_release_pinch", 250),
+        ("c5_full_crumple", 300),
+        ("s3_wiggle_near_wall", 333),
+    ] {
         let (mut sim, mut runner, cfg) = mid_scenario(name, frames);
         let text = json(&sim.save());
         let back: SavedSheet = serde_json::from_str(&text).unwrap();
         let mut restored = Sim::restore(cfg, &back).unwrap();
-        assert!(json(&restored.save()) == text, "{name}: re-saved bytes differ");
+        assert!(
+            json(&restored.save()) == text,
+            "{name}: re-saved bytes differ"
+        );
         assert_eq!(state_hash(&restored), state_hash(&sim));
         // Continue both with the rest of the script: identical bits every frame.
         let mut cmds = Vec::new();
@@ -51,7 +58,11 @@ fn json_round_trip_is_byte_identical_and_continues_bit_identically() {
             }
             sim.step(&mut o1);
             restored.step(&mut o2);
-            assert_eq!(state_hash(&sim), state_hash(&restored), "{name}: diverged at frame {n}");
+            assert_eq!(
+                state_hash(&sim),
+                state_hash(&restored),
+                "{name}: diverged at frame {n}"
+            );
             assert_eq!(o1.stats, o2.stats);
             n += 1;
         }
@@ -63,16 +74,28 @@ fn json_round_trip_is_byte_identical_and_continues_bit_identically() {
 fn saving_between_a_command_and_the_next_step_continues_exactly() {
     let (mut sim, _, cfg) = mid_scenario("c2_moebius_twist", 200);
     // Commands applied but not yet stepped: the hands' vertex ownership is pending.
-    sim.apply(Command::Release { slot: GrabSlot::Back });
-    sim.apply(Command::Grab { slot: GrabSlot::Corners, grip: 0.4 });
-    sim.apply(Command::Gesture { param: GestureParam::Crumple, value: 0.5 });
+    sim.apply(Command::Release {
+        slot: GrabSlot::Back,
+    });
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Corners,
+        grip: 0.4,
+    });
+    sim.apply(Command::Gesture {
+        param: GestureParam::Crumple,
+        value: 0.5,
+    });
     let saved: SavedSheet = serde_json::from_str(&json(&sim.save())).unwrap();
     let mut restored = Sim::restore(cfg, &saved).unwrap();
     let (mut o1, mut o2) = (FrameOutput::default(), FrameOutput::default());
     for f in 0..200 {
         sim.step(&mut o1);
         restored.step(&mut o2);
-        assert_eq!(state_hash(&sim), state_hash(&restored), "diverged at frame {f}");
+        assert_eq!(
+            state_hash(&sim),
+            state_hash(&restored),
+            "diverged at frame {f}"
+        );
     }
 }
 
@@ -108,7 +131,9 @@ fn corrupted_sheets_are_rejected_with_clear_errors() {
     for (what, mutate) in cases {
         let mut bad = good.clone();
         mutate(&mut bad);
-        let err = Sim::restore(cfg, &bad).err().unwrap_or_else(|| panic!("{what}: accepted"));
+        let err = Sim::restore(cfg, &bad)
+            .err()
+            .unwrap_or_else(|| panic!("{what}: accepted"));
         let msg = err.to_string();
         assert!(!msg.is_empty() && !msg.contains('\n'), "{what}: {msg:?}");
     }
@@ -132,7 +157,7 @@ fn random_json_mutations_never_panic() {
     for _ in 0..300 {
         let mut v = value.clone();
         for _ in 0..rng.random_range(1..4u32) {
-            mutate(&mut v, &mut rng, 0);
+            mutate(&mut v, &mut rng);
         }
         if let Ok(saved) = serde_json::from_value::<SavedSheet>(v)
             && let Ok(mut s) = Sim::restore(SimConfig::default(), &saved)
@@ -149,13 +174,13 @@ fn random_json_mutations_never_panic() {
 }
 
 /// Replaces a random leaf of a JSON value by a hostile value, or truncates an array.
-fn mutate(v: &mut serde_json::Value, rng: &mut rand_pcg::Pcg32, depth: u32) {
+fn mutate(v: &mut serde_json::Value, rng: &mut rand_pcg::Pcg32) {
     use serde_json::Value;
     match v {
         Value::Object(m) if !m.is_empty() => {
             let k = rng.random_range(0..m.len());
             let key = m.keys().nth(k).unwrap().clone();
-            mutate(m.get_mut(&key).unwrap(), rng, depth + 1);
+            mutate(m.get_mut(&key).unwrap(), rng);
         }
         Value::Array(a) if !a.is_empty() => {
             if rng.random_range(0..6u32) == 0 {
@@ -163,7 +188,7 @@ fn mutate(v: &mut serde_json::Value, rng: &mut rand_pcg::Pcg32, depth: u32) {
                 a.truncate(n);
             } else {
                 let i = rng.random_range(0..a.len());
-                mutate(&mut a[i], rng, depth + 1);
+                mutate(&mut a[i], rng);
             }
         }
         _ => {

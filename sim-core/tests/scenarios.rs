@@ -34,7 +34,11 @@ fn every_scenario_is_healthy_and_near_isometric() {
         assert!(s.n_comp_pct < 10.0, "{name}: n_comp {}", s.n_comp_pct);
         assert!(s.max_strain < 0.3, "{name}: strain {}", s.max_strain);
         assert!(s.max_speed_m_s < 10.0, "{name}: speed {}", s.max_speed_m_s);
-        assert!((100.0..=220.0).contains(&s.triangles_avg), "{name}: {} triangles", s.triangles_avg);
+        assert!(
+            (100.0..=220.0).contains(&s.triangles_avg),
+            "{name}: {} triangles",
+            s.triangles_avg
+        );
     }
 }
 
@@ -132,7 +136,10 @@ fn raising_the_table_lifts_the_sheet_smoothly() {
         assert_eq!(out.stats.num_flipped, 0);
     }
     let z: Vec<f64> = sim.sheet().sp.pos.iter().map(|p| p.z).collect();
-    assert!(z.iter().all(|&z| (z - 1.0).abs() < 1e-3), "the sheet rode up with the table");
+    assert!(
+        z.iter().all(|&z| (z - 1.0).abs() < 1e-3),
+        "the sheet rode up with the table"
+    );
     assert!(vmax < 1.0, "no explosion: {vmax} m/s");
     // Switching the table off drops the sheet to the floor.
     sim.apply(Command::Room(RoomConfig {
@@ -164,8 +171,18 @@ fn reset_keeps_held_slots_and_size_changes_rebuild() {
     let nt = sim.sheet().sp.num_triangles();
     sim.apply(Command::Reset);
     assert_eq!(sim.frame(), 0);
-    assert!(sim.rig().state.held[GrabSlot::Back.index()].is_some(), "still held");
-    assert!(sim.sheet().sp.pos.iter().all(|p| (p.z - 0.75).abs() < 1e-12), "flat again");
+    assert!(
+        sim.rig().state.held[GrabSlot::Back.index()].is_some(),
+        "still held"
+    );
+    assert!(
+        sim.sheet()
+            .sp
+            .pos
+            .iter()
+            .all(|p| (p.z - 0.75).abs() < 1e-12),
+        "flat again"
+    );
     sim.step(&mut out);
     assert!(out.stats.num_held > 0);
     sim.apply(Command::Size(sim_core::SheetSize::Sq10));

@@ -28,7 +28,11 @@ fn session(seed: u64, frames: u64) {
     assert!(r.ok(), "seed {seed}: {:?}", r.failure);
     assert_eq!(r.frames, frames);
     assert_eq!((r.flips, r.recoveries), (0, 0));
-    assert!(r.commands > frames / 20, "the stream is busy: {} commands", r.commands);
+    assert!(
+        r.commands > frames / 20,
+        "the stream is busy: {} commands",
+        r.commands
+    );
     assert!(r.asleep_frames > 0, "calm phases let the sheet sleep");
 }
 

@@ -24,7 +24,10 @@ fn main() {
     let mut trace = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
-        let mut val = || args.next().unwrap_or_else(|| usage(&format!("{a} needs a value")));
+        let mut val = || {
+            args.next()
+                .unwrap_or_else(|| usage(&format!("{a} needs a value")))
+        };
         match a.as_str() {
             "--frames" => frames = val().parse().unwrap_or_else(|_| usage("bad --frames")),
             "--seed" => seed = val().parse().unwrap_or_else(|_| usage("bad --seed")),
@@ -45,7 +48,8 @@ fn main() {
     let per = frames.div_ceil(sessions);
     let t0 = Instant::now();
     let mut total = 0u64;
-    let (mut vmax, mut kemax, mut strain, mut asleep, mut cmds) = (0.0f64, 0.0f64, 0.0f64, 0u64, 0u64);
+    let (mut vmax, mut kemax, mut strain, mut asleep, mut cmds) =
+        (0.0f64, 0.0f64, 0.0f64, 0u64, 0u64);
     for s in 0..sessions {
         let mut sim = SimConfig::default();
         sim.solver.kind = solver;
@@ -95,6 +99,8 @@ fn usage(msg: &str) -> ! {
     if !msg.is_empty() {
         eprintln!("sim-stress: {msg}");
     }
-    eprintln!("usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--trace]");
+    eprintln!(
+        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--trace]"
+    );
     std::process::exit(2);
 }

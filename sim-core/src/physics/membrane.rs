@@ -51,7 +51,11 @@ fn barrier(j: f64) -> (f64, f64, f64) {
         return (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY);
     }
     let d = BARRIER_J0 - j;
-    (d * d / j, -d * (BARRIER_J0 + j) / (j * j), 2.0 * BARRIER_J0 * BARRIER_J0 / (j * j * j))
+    (
+        d * d / j,
+        -d * (BARRIER_J0 + j) / (j * j),
+        2.0 * BARRIER_J0 * BARRIER_J0 / (j * j * j),
+    )
 }
 
 /// Area ratio J of a triangle and its gradient (per vertex).
@@ -355,9 +359,14 @@ mod tests {
                 let mut xm = x;
                 xp[a][c] += eps;
                 xm[a][c] -= eps;
-                let fd = (energy(xp, &rest, &M2::zeros(), 0.0, &p) - energy(xm, &rest, &M2::zeros(), 0.0, &p))
+                let fd = (energy(xp, &rest, &M2::zeros(), 0.0, &p)
+                    - energy(xm, &rest, &M2::zeros(), 0.0, &p))
                     / (2.0 * eps);
-                assert!((fd - g[a][c]).abs() < 1e-4 * (1.0 + g[a][c].abs()), "v{a} c{c}: {fd} vs {}", g[a][c]);
+                assert!(
+                    (fd - g[a][c]).abs() < 1e-4 * (1.0 + g[a][c].abs()),
+                    "v{a} c{c}: {fd} vs {}",
+                    g[a][c]
+                );
             }
         }
         // The energy grows without bound as the area vanishes.
@@ -381,9 +390,9 @@ mod tests {
         let mut h = [[M3::zeros(); 3]; 3];
         grad_hess(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
         let mut full = nalgebra::DMatrix::<f64>::zeros(9, 9);
-        for a in 0..3 {
-            for b in 0..3 {
-                full.view_mut((3 * a, 3 * b), (3, 3)).copy_from(&h[a][b]);
+        for (a, row) in h.iter().enumerate() {
+            for (b, blk) in row.iter().enumerate() {
+                full.view_mut((3 * a, 3 * b), (3, 3)).copy_from(blk);
             }
         }
         assert!((&full - full.transpose()).norm() < 1e-9 * full.norm());

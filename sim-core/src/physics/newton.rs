@@ -31,7 +31,9 @@ use crate::collision::{
 };
 use crate::math::{GRAVITY_M_S2, M3, V3};
 use crate::physics::sparse::BlockSystem;
-use crate::physics::{Kinematics, PhysParams, SolverConfig, SubstepFrame, SubstepReport, bending, membrane};
+use crate::physics::{
+    Kinematics, PhysParams, SolverConfig, SubstepFrame, SubstepReport, bending, membrane,
+};
 use crate::sheet::physical::PhysMesh;
 
 /// Local vertex pairs of a triangle's off-diagonal blocks.
@@ -155,10 +157,18 @@ impl NewtonSolver {
             let mut reg = 0.0;
             for _attempt in 0..=MAX_LM_RETRIES {
                 for i in 0..n {
-                    let g = if kin.fixed[i] { V3::zeros() } else { -self.grad[i] };
+                    let g = if kin.fixed[i] {
+                        V3::zeros()
+                    } else {
+                        -self.grad[i]
+                    };
                     self.sys.rhs[3 * i..3 * i + 3].copy_from_slice(g.as_slice());
                 }
-                if self.sys.factorize_and_solve(kin.fixed, &self.diag_fixed, reg).is_err() {
+                if self
+                    .sys
+                    .factorize_and_solve(kin.fixed, &self.diag_fixed, reg)
+                    .is_err()
+                {
                     report.recovered = true;
                     break 'newton;
                 }
@@ -168,7 +178,11 @@ impl NewtonSolver {
                     if kin.fixed[i] {
                         continue;
                     }
-                    let d = V3::new(self.sys.rhs[3 * i], self.sys.rhs[3 * i + 1], self.sys.rhs[3 * i + 2]);
+                    let d = V3::new(
+                        self.sys.rhs[3 * i],
+                        self.sys.rhs[3 * i + 1],
+                        self.sys.rhs[3 * i + 2],
+                    );
                     slope += self.grad[i].dot(&d);
                     max_step = max_step.max(d.amax());
                 }
@@ -187,8 +201,11 @@ impl NewtonSolver {
                             mesh.pos[i]
                         } else {
                             mesh.pos[i]
-                                + V3::new(self.sys.rhs[3 * i], self.sys.rhs[3 * i + 1], self.sys.rhs[3 * i + 2])
-                                    * alpha
+                                + V3::new(
+                                    self.sys.rhs[3 * i],
+                                    self.sys.rhs[3 * i + 1],
+                                    self.sys.rhs[3 * i + 2],
+                                ) * alpha
                         };
                     }
                     if !Self::flips_new(mesh, &frame.x_n, &mesh.pos, &self.x_trial) {
@@ -244,7 +261,14 @@ impl NewtonSolver {
     /// Per-vertex terms: inertia + gravity, drag, contact penalty, lagged friction.
     /// Returns (energy, gradient, Hessian) — the Hessian only if `hess`.
     #[inline]
-    fn vertex_terms(i: usize, x: &V3, m: f64, x_hat: &V3, ctx: Ctx<'_>, hess: bool) -> (f64, V3, M3) {
+    fn vertex_terms(
+        i: usize,
+        x: &V3,
+        m: f64,
+        x_hat: &V3,
+        ctx: Ctx<'_>,
+        hess: bool,
+    ) -> (f64, V3, M3) {
         let h = ctx.h;
         let p = ctx.params;
         let f = ctx.frame;
@@ -252,7 +276,11 @@ impl NewtonSolver {
         let d = x - x_hat;
         let mut e = 0.5 * mh2 * d.norm_squared() + m * GRAVITY_M_S2 * x.z;
         let mut g = d * mh2 + V3::new(0.0, 0.0, m * GRAVITY_M_S2);
-        let mut hm = if hess { M3::identity() * mh2 } else { M3::zeros() };
+        let mut hm = if hess {
+            M3::identity() * mh2
+        } else {
+            M3::zeros()
+        };
 
         let dx = x - f.x_n[i];
         let n = &f.normal[i];
@@ -311,13 +339,20 @@ impl NewtonSolver {
         let damp_s = ctx.params.membrane_damping_s / ctx.h;
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let xs = tri.map(|i| x[i as usize]);
-            e += membrane::energy(xs, &mesh.tri_rest[t], &ctx.frame.strain[t], damp_s, &ctx.params.membrane);
+            e += membrane::energy(
+                xs,
+                &mesh.tri_rest[t],
+                &ctx.frame.strain[t],
+                damp_s,
+                &ctx.params.membrane,
+            );
         }
         let damp_b = ctx.params.bending_damping_s / ctx.h;
         for (k, hg) in mesh.hinges.iter().enumerate() {
             let xs = hg.v.map(|i| x[i as usize]);
             let ei = hg.edge as usize;
-            let ke = bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
+            let ke =
+                bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
             e += bending::energy(
                 bending::dihedral(&xs),
                 mesh.edge_rest_angle[ei],
@@ -331,7 +366,13 @@ impl NewtonSolver {
 
     /// Fills `self.grad` and the system blocks at the current positions; returns the energy
     /// if `want_energy` (else 0).
-    fn assemble(&mut self, mesh: &PhysMesh, fixed: &[bool], ctx: Ctx<'_>, want_energy: bool) -> f64 {
+    fn assemble(
+        &mut self,
+        mesh: &PhysMesh,
+        fixed: &[bool],
+        ctx: Ctx<'_>,
+        want_energy: bool,
+    ) -> f64 {
         self.sys.clear();
         let x = &mesh.pos;
         let mut e = 0.0;
@@ -340,7 +381,8 @@ impl NewtonSolver {
                 self.grad[i] = V3::zeros();
                 continue;
             }
-            let (ei, gi, hi) = Self::vertex_terms(i, &x[i], mesh.mass_kg[i], &self.x_hat[i], ctx, true);
+            let (ei, gi, hi) =
+                Self::vertex_terms(i, &x[i], mesh.mass_kg[i], &self.x_hat[i], ctx, true);
             e += ei;
             self.grad[i] = gi;
             self.sys.add_diag(i as u32, &hi);
@@ -374,19 +416,21 @@ impl NewtonSolver {
                 continue;
             };
             let ei = hg.edge as usize;
-            let ke = bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
+            let ke =
+                bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
             let rest = mesh.edge_rest_angle[ei];
             let th_n = ctx.frame.theta[k];
             if want_energy {
                 e += bending::energy(theta, rest, th_n, ke, damp_b);
             }
             let (de, c) = bending::dtheta_coeffs(theta, rest, th_n, ke, damp_b);
-            for a in 0..4 {
-                self.grad[hg.v[a] as usize] += gt[a] * de;
-                self.sys.add_diag(hg.v[a], &(gt[a] * gt[a].transpose() * c));
+            for (&v, g) in hg.v.iter().zip(&gt) {
+                self.grad[v as usize] += g * de;
+                self.sys.add_diag(v, &(g * g.transpose() * c));
             }
             for (p, &(a, b)) in HINGE_PAIRS.iter().enumerate() {
-                self.sys.add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
+                self.sys
+                    .add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
             }
         }
         if want_energy {
@@ -446,7 +490,11 @@ mod tests {
         );
         assert!(!r.recovered);
         for (x, v) in mesh.pos.iter().zip(&mesh.vel) {
-            assert!((x.z - (0.75 - GRAVITY_M_S2 * h * h)).abs() < 1e-9, "{}", x.z);
+            assert!(
+                (x.z - (0.75 - GRAVITY_M_S2 * h * h)).abs() < 1e-9,
+                "{}",
+                x.z
+            );
             assert!((v.z + GRAVITY_M_S2 * h).abs() < 1e-6);
         }
     }

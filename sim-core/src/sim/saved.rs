@@ -83,7 +83,9 @@ pub enum RestoreError {
     #[error("saved sheet has version {0}, this build reads version {SAVED_SHEET_VERSION}")]
     Version(u32),
     /// A per-vertex array does not match the number of pattern vertices.
-    #[error("saved sheet has {found} entries in a per-vertex array, the pattern has {expected} vertices ({size:?})")]
+    #[error(
+        "saved sheet has {found} entries in a per-vertex array, the pattern has {expected} vertices ({size:?})"
+    )]
     VertexCount {
         /// Sheet size.
         size: SheetSize,
@@ -117,7 +119,9 @@ impl SavedSheet {
             || self.rig.next_seq > MAX_SAVED_COUNTER
             || self.rig.grab_seq.iter().any(|&q| q > self.rig.next_seq)
         {
-            return Err(RestoreError::Invalid("frame or grab counters are out of range".into()));
+            return Err(RestoreError::Invalid(
+                "frame or grab counters are out of range".into(),
+            ));
         }
         let n = self.pattern_m.len();
         if n < 3 {
@@ -157,7 +161,9 @@ impl SavedSheet {
         for (i, v) in self.velocities_m_s.iter().enumerate() {
             let s2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
             if !(finite(s2) && s2 <= MAX_SAVED_SPEED_M_S * MAX_SAVED_SPEED_M_S) {
-                return Err(RestoreError::Invalid(format!("velocity of vertex {i} is not finite or too large")));
+                return Err(RestoreError::Invalid(format!(
+                    "velocity of vertex {i} is not finite or too large"
+                )));
             }
         }
         if self.triangles.is_empty() {
@@ -165,30 +171,41 @@ impl SavedSheet {
         }
         for (i, &a) in self.edge_rest_angle_rad.iter().enumerate() {
             if !(finite(a) && a.abs() <= std::f64::consts::PI) {
-                return Err(RestoreError::Invalid(format!("rest angle of edge {i} is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "rest angle of edge {i} is out of range"
+                )));
             }
         }
         for (i, &d) in self.edge_damage.iter().enumerate() {
             if !(finite(d) && (0.0..=1e6).contains(&d)) {
-                return Err(RestoreError::Invalid(format!("damage of edge {i} is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "damage of edge {i} is out of range"
+                )));
             }
         }
         let mut sing = self.singular_vertices.clone();
         sing.sort_unstable();
         for w in sing.windows(2) {
             if w[0] == w[1] {
-                return Err(RestoreError::Invalid(format!("singular vertex {} is listed twice", w[0])));
+                return Err(RestoreError::Invalid(format!(
+                    "singular vertex {} is listed twice",
+                    w[0]
+                )));
             }
         }
         if let Some(&s) = sing.last()
             && s as usize >= n
         {
-            return Err(RestoreError::Invalid(format!("singular vertex {s} does not exist")));
+            return Err(RestoreError::Invalid(format!(
+                "singular vertex {s} does not exist"
+            )));
         }
         self.validate_rig()?;
         for (k, o) in self.obstacle_offsets_m.iter().enumerate() {
             if !(finite(*o) && o.abs() <= ROOM_BOX_HALF_M) {
-                return Err(RestoreError::Invalid(format!("obstacle {k} offset is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "obstacle {k} offset is out of range"
+                )));
             }
         }
         Ok(())
@@ -199,19 +216,27 @@ impl SavedSheet {
         for g in GestureParam::ALL {
             let v = r.commanded[g.index()];
             if g.sanitize(v) != Some(v) {
-                return Err(RestoreError::Invalid(format!("gesture {} value {v} is out of range", g.id())));
+                return Err(RestoreError::Invalid(format!(
+                    "gesture {} value {v} is out of range",
+                    g.id()
+                )));
             }
             let s = r.smoothed[g.index()];
             let (lo, hi) = g.range();
             if !(finite(s) && s >= f64::from(lo) - 1e-9 && s <= f64::from(hi) + 1e-9) {
-                return Err(RestoreError::Invalid(format!("smoothed gesture {} is out of range", g.id())));
+                return Err(RestoreError::Invalid(format!(
+                    "smoothed gesture {} is out of range",
+                    g.id()
+                )));
             }
         }
         for (i, h) in r.held.iter().enumerate() {
             if let Some(g) = h
                 && !(g.is_finite() && (0.0..=1.0).contains(g))
             {
-                return Err(RestoreError::Invalid(format!("grip of slot {i} is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "grip of slot {i} is out of range"
+                )));
             }
         }
         for (k, h) in r.hands.iter().enumerate() {
@@ -232,12 +257,16 @@ impl SavedSheet {
             ok &= finite(h.speed_m_s) && (0.0..=100.0).contains(&h.speed_m_s);
             ok &= finite(h.caution) && (0.0..=1.0).contains(&h.caution);
             if !ok {
-                return Err(RestoreError::Invalid(format!("hand {k} state is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "hand {k} state is out of range"
+                )));
             }
         }
         for j in &r.crumple_jitter {
             if !j.iter().all(|c| finite(*c) && c.abs() <= 10.0) {
-                return Err(RestoreError::Invalid("crumple jitter is out of range".into()));
+                return Err(RestoreError::Invalid(
+                    "crumple jitter is out of range".into(),
+                ));
             }
         }
         if !(finite(r.shake_phase_rad) && r.shake_phase_rad.abs() <= 100.0) {
