@@ -289,6 +289,8 @@ impl Renderer {
         self.voices.reset();
         self.friction.reset();
         self.tear.reset();
+        self.tear_tip = [0.0; 3];
+        self.update_tear_gains();
         self.snap_gains();
         self.clock = 0;
         self.batch = 0;

@@ -304,16 +304,22 @@ impl Physics {
         self.substeps_done += 1;
         self.frame.capture(mesh, obstacles);
         let report = match cfg.kind {
-            SolverKind::Newton => self
-                .newton
-                .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s),
-            SolverKind::Xpbd => self
-                .xpbd
-                .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s),
+            SolverKind::Newton => {
+                self.newton
+                    .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s)
+            }
+            SolverKind::Xpbd => {
+                self.xpbd
+                    .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s)
+            }
         };
         // Last line of defence: a non-finite state is replaced by the start of the substep,
         // at rest (never observed in the stress tests; counted if it happens).
-        let bad = mesh.pos.iter().chain(&mesh.vel).any(|v| !crate::math::finite3(v));
+        let bad = mesh
+            .pos
+            .iter()
+            .chain(&mesh.vel)
+            .any(|v| !crate::math::finite3(v));
         if bad {
             mesh.pos.copy_from_slice(&self.frame.x_n);
             for v in &mut mesh.vel {
@@ -325,5 +331,42 @@ impl Physics {
             };
         }
         report
+    }
+}
+
+/// Elastic forces (membrane + bending, no damping) on every vertex, N: `out[i] = −∂W/∂x_i`.
+/// Used to measure how hard the sheet pulls on the hands ([`crate::gesture_rig`]).
+pub fn elastic_forces(mesh: &PhysMesh, params: &PhysParams, out: &mut [V3]) {
+    for f in out.iter_mut() {
+        *f = V3::zeros();
+    }
+    let mut g3 = [V3::zeros(); 3];
+    let mut h3 = [[crate::math::M3::zeros(); 3]; 3];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let xs = tri.map(|i| mesh.pos[i as usize]);
+        membrane::grad_hess(
+            xs,
+            &mesh.tri_rest[t],
+            &M2::zeros(),
+            0.0,
+            &params.membrane,
+            &mut g3,
+            &mut h3,
+        );
+        for a in 0..3 {
+            out[tri[a] as usize] -= g3[a];
+        }
+    }
+    for hg in &mesh.hinges {
+        let xs = hg.v.map(|i| mesh.pos[i as usize]);
+        let Some((theta, gt)) = bending::dihedral_grad(&xs) else {
+            continue;
+        };
+        let ei = hg.edge as usize;
+        let ke = bending::hinge_stiffness(params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
+        let (de, _) = bending::dtheta_coeffs(theta, mesh.edge_rest_angle[ei], theta, ke, 0.0);
+        for a in 0..4 {
+            out[hg.v[a] as usize] -= gt[a] * de;
+        }
     }
 }
