@@ -33,7 +33,6 @@ fn session(seed: u64, frames: u64) {
         "the stream is busy: {} commands",
         r.commands
     );
-    assert!(r.asleep_frames > 0, "calm phases let the sheet sleep");
 }
 
 #[test]
