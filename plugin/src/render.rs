@@ -457,8 +457,8 @@ impl Renderer {
         let [tl, tr] = &mut self.tear_ear_gain;
         let (mut clipped, mut nonfinite) = (0u64, 0u64);
         for t in 0..n {
-            let (c, f, te, o) = (gc.next(), gf.next(), gt.next(), go.next());
-            let (el, er) = (tl.next(), tr.next());
+            let (c, f, te, o) = (gc.tick(), gf.tick(), gt.tick(), go.tick());
+            let (el, er) = (tl.tick(), tr.tick());
             let l = o * (c * cl[t] + f * fl[t] + te * el * tm[t]);
             let r = o * (c * cr[t] + f * fr[t] + te * er * tm[t]);
             let (l, lc, ln) = output_stage::safety(l);

@@ -115,7 +115,7 @@ fn norm(a: [f64; 3]) -> f64 {
 /// cos θ with the floor, sign kept (0 counts as positive); an undefined axis is omnidirectional.
 fn floored_cos(r: [f64; 3], dist: f64, n: [f64; 3], cos_floor: f64) -> f64 {
     let nn = norm(n);
-    if !(nn > 1e-9) || !nn.is_finite() {
+    if nn.is_nan() || nn <= 1e-9 || !nn.is_finite() {
         return 1.0;
     }
     let c = dot(r, n) / (dist * nn);

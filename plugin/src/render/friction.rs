@@ -550,3 +550,67 @@ impl Friction {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cache_finds_what_it_claimed() {
+        let mut c = CombCache::new(8);
+        let res = Resonator {
+            centre_m: [0.1, 0.0, 0.77],
+            normal: [0.0, 0.0, 1.0],
+            ..Resonator::default()
+        };
+        assert!(c.find(&res, 0, 1, true).is_none());
+        let k = c.claim(&res, 0, 1);
+        c.touch(k, 5);
+        assert_eq!(c.find(&res, 0, 1, true), Some(k));
+        assert!(c.find(&res, 1, 1, true).is_none());
+        assert!(c.find(&res, 0, 2, true).is_none());
+    }
+
+    #[test]
+    fn static_sources_hit_the_cache() {
+        let mut db = sounddb::Database::new(sounddb::DbInfo::default(), 44_100);
+        db.spectra.push(sounddb::FrictionSpectrum {
+            cell: sounddb::Cell::Constrained,
+            magnitudes: vec![0.001; 2048],
+            speed_m_s: 0.1,
+            file: String::new(),
+        });
+        let db = SoundDb::prepare(&db, 44_100.0);
+        let scene = super::super::Scene::default();
+        let ears = Ears::from_scene(&scene);
+        let reflectors: Vec<Plane> = scene.room.reflectors().collect();
+        let mut f = Friction::new(44_100.0, 1);
+        let mut counters = RenderCounters::default();
+        let src = FrictionSource {
+            slip_speed_m_s: 0.1,
+            resonator: Resonator {
+                centre_m: [0.0, 0.0, 0.77],
+                normal: [0.0, 0.0, 1.0],
+                ..Resonator::default()
+            },
+            ..FrictionSource::default()
+        };
+        let opts = RenderOptions::default();
+        let (mut l, mut r) = (vec![0.0f32; 1024], vec![0.0f32; 1024]);
+        for _ in 0..10 {
+            f.set_sources(&[src], &db, true, &mut counters);
+            f.render(
+                &db,
+                &ears,
+                &reflectors,
+                1,
+                &opts,
+                &mut l,
+                &mut r,
+                &mut counters,
+            );
+        }
+        assert_eq!(counters.friction_comb_bins, 2 * 1025, "{counters:?}");
+        assert_eq!(counters.friction_comb_cache_hits, 2 * 8);
+    }
+}
