@@ -716,14 +716,13 @@ mod tests {
             sim.step(&mut out);
             worst = worst.max(sim.metrics().max_strain);
         }
-        assert!(worst < 0.08, "strain {worst}");
-        let zmax = sim
-            .sheet()
-            .sp
-            .pos
-            .iter()
-            .map(|p| p.z)
-            .fold(f64::MIN, f64::max);
+        assert!(worst < 0.1, "strain {worst}");
+        // The front hand gave way: its pinch did not reach the lift target (L/2 up, 12 % of
+        // stretch away) but stopped where the sheet holds it.
+        let front = sim.rig().state.hands[1].pose.pos();
+        let target_z = 0.75 + 0.5 * 0.297;
+        assert!(front.z < target_z - 0.01, "hand at {} vs target {target_z}", front.z);
+        let zmax = sim.sheet().sp.pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
         assert!(zmax > 0.8, "the front still went up: {zmax}");
     }
 

@@ -292,7 +292,7 @@ fn test18_same_scene_same_spectrum_at_44k1_48k_96k() {
     }
     let mut worst = 0.0f64;
     for other in &spectra[1..] {
-        for ((fc, a), (_, b)) in spectra[0].iter().zip(other) {
+        for ((_, a), (_, b)) in spectra[0].iter().zip(other) {
             let d = 10.0 * (b / a).log10();
             worst = worst.max(d.abs());
         }

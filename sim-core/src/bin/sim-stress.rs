@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cargo run --release -p sim-core --bin sim-stress -- [--frames N] [--seed S] [--sessions K]
-//!     [--solver newton|xpbd] [--trace]
+//!     [--solver newton|xpbd] [--stretch-scale K] [--trace]
 //! ```
 //!
 //! The frames are split into `K` sessions with seeds `S, S+1, …` (each a fresh sheet, sizes
@@ -22,6 +22,7 @@ fn main() {
     let mut sessions: u64 = 20;
     let mut solver = SolverKind::Newton;
     let mut trace = false;
+    let mut stretch_scale: Option<f64> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut val = || {
@@ -40,6 +41,13 @@ fn main() {
                 }
             }
             "--trace" => trace = true,
+            "--stretch-scale" => {
+                stretch_scale = Some(
+                    val()
+                        .parse()
+                        .unwrap_or_else(|_| usage("bad --stretch-scale")),
+                )
+            }
             "-h" | "--help" => usage(""),
             other => usage(&format!("unknown argument {other}")),
         }
@@ -53,6 +61,9 @@ fn main() {
     for s in 0..sessions {
         let mut sim = SimConfig::default();
         sim.solver.kind = solver;
+        if let Some(k) = stretch_scale {
+            sim.solver.stretch_scale = k;
+        }
         let cfg = StressConfig {
             seed: seed + s,
             frames: per.min(frames - total),
@@ -100,7 +111,7 @@ fn usage(msg: &str) -> ! {
         eprintln!("sim-stress: {msg}");
     }
     eprintln!(
-        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--trace]"
+        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--trace]"
     );
     std::process::exit(2);
 }
