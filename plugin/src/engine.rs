@@ -457,10 +457,11 @@ impl Engine {
                 self.renderer.render(&mut left[..n], &mut right[..n]);
             }
         }
-        // Belt and braces: the render path guarantees finite output; never let a NaN out.
+        // Belt and braces: the render path guarantees finite, normal output; never let a NaN,
+        // an infinity or a subnormal out.
         let mut peak = 0.0f32;
         for s in left[..n].iter_mut().chain(right[..n].iter_mut()) {
-            if !s.is_finite() {
+            if !(s.is_normal() || *s == 0.0) {
                 *s = 0.0;
             }
             peak = peak.max(s.abs());
