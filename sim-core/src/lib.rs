@@ -45,6 +45,7 @@ pub mod script;
 pub mod script_runner;
 pub mod sheet;
 pub mod sim;
+pub mod sound_analysis;
 pub mod sound_input;
 pub mod stress;
 

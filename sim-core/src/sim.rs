@@ -18,8 +18,10 @@
 //! 2. (b) `substeps` physics substeps ([`crate::physics`]) with the held vertices as hard
 //!    constraints interpolated across the frame, obstacles and friction;
 //! 3. (c) S_G reads its vertex positions from S_P ([`crate::sheet::geometric`]);
-//! 4. contacts (flag, obstacle, slip speed, normal force) and metrics are updated and the
-//!    statistics written.
+//! 4. contacts (flag, obstacle, slip speed, normal force) and metrics are updated;
+//! 5. the sound analysis ([`crate::sound_analysis`]) turns the frame's curvature flips, new
+//!    singular vertices and sliding contacts into crumple and friction events with their
+//!    resonators, written to the frame's [`SoundFrame`], and the statistics are written.
 //!
 //! The geometry layer (steps (d)–(h): compression analysis, rulings, singular points, cone
 //! fitting, isometry) is the next issue; its data model is in place.
@@ -55,6 +57,7 @@ use crate::physics::{Kinematics, PhysParams, Physics, SolverConfig};
 use crate::room::RoomConfig;
 use crate::sheet::pattern::{Pattern, lattice};
 use crate::sheet::{MeshConfig, Sheet};
+use crate::sound_analysis::{AnalysisConfig, AnalysisInput, AnalysisStats, SoundAnalysis};
 use crate::sound_input::SoundFrame;
 
 /// Default number of simulation frames per second of simulated time.
@@ -183,6 +186,7 @@ pub struct Sim {
     quiet_frames: u32,
     mesh_capacity: (usize, usize),
     frames_simulated: u64,
+    analysis: SoundAnalysis,
 }
 
 impl Sim {
@@ -211,6 +215,15 @@ impl Sim {
         obstacles.fit_outside(&sheet.sp.pos);
         let rig = GestureRig::new(&sheet, cfg.room.home_height_m());
         let metrics = MetricsTracker::new(&sheet.sp);
+        let mesh_capacity = mesh_capacity_for(&cfg);
+        let mut analysis = SoundAnalysis::new(
+            AnalysisConfig::default(),
+            mesh_capacity.0,
+            mesh_capacity.1,
+            largest_sheet_m(),
+            (sheet.width_m, sheet.length_m),
+        );
+        analysis.reset(sheet.width_m, sheet.length_m, sheet.sp.singular.len());
         let mut sim = Self {
             physics: Physics::new(&sheet.sp),
             rig,
@@ -226,8 +239,9 @@ impl Sim {
             last_metrics: Metrics::default(),
             asleep: false,
             quiet_frames: 0,
-            mesh_capacity: mesh_capacity_for(&cfg),
+            mesh_capacity,
             frames_simulated: 0,
+            analysis,
             cfg,
             frame: 0,
             sheet,
@@ -270,6 +284,16 @@ impl Sim {
     /// Per-vertex contacts after the last frame (same indexing as the S_P vertices).
     pub fn contacts(&self) -> &[VertexContact] {
         &self.contacts
+    }
+
+    /// Counts of the last frame's sound analysis (events by kind, vibration regions).
+    pub fn analysis_stats(&self) -> &AnalysisStats {
+        self.analysis.stats()
+    }
+
+    /// The sound analysis (curvature grid, thresholds), read-only.
+    pub fn sound_analysis(&self) -> &SoundAnalysis {
+        &self.analysis
     }
 
     /// Metrics of the last frame.
@@ -448,6 +472,15 @@ impl Sim {
         }
         self.update_contacts();
         self.last_metrics = self.metrics.compute(&self.sheet.sp);
+        self.analysis.analyze(
+            &AnalysisInput {
+                sp: &self.sheet.sp,
+                contacts: &self.contacts,
+                held: &self.fixed,
+                time_s: self.time_s(),
+            },
+            &mut out.sound,
+        );
 
         let quiet = !handles_moved
             && !slipped
@@ -655,6 +688,14 @@ impl Sim {
 }
 
 /// The largest (vertices, triangles) over all sheet sizes at the configured density, × 2.
+/// The largest sheet's width and length, metres (sizes the sound analysis grid).
+fn largest_sheet_m() -> (f64, f64) {
+    SheetSize::ALL.iter().fold((0.0, 0.0), |acc, s| {
+        let (w, l) = s.dims_m();
+        (f64::max(acc.0, w), f64::max(acc.1, l))
+    })
+}
+
 fn mesh_capacity_for(cfg: &SimConfig) -> (usize, usize) {
     let mut best = (0, 0);
     for size in SheetSize::ALL {
@@ -721,8 +762,18 @@ mod tests {
         // stretch away) but stopped where the sheet holds it.
         let front = sim.rig().state.hands[1].pose.pos();
         let target_z = 0.75 + 0.5 * 0.297;
-        assert!(front.z < target_z - 0.01, "hand at {} vs target {target_z}", front.z);
-        let zmax = sim.sheet().sp.pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        assert!(
+            front.z < target_z - 0.01,
+            "hand at {} vs target {target_z}",
+            front.z
+        );
+        let zmax = sim
+            .sheet()
+            .sp
+            .pos
+            .iter()
+            .map(|p| p.z)
+            .fold(f64::MIN, f64::max);
         assert!(zmax > 0.8, "the front still went up: {zmax}");
     }
 

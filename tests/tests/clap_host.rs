@@ -165,7 +165,9 @@ fn extreme_and_fractional_sample_rates_stay_finite() {
     let _serial = serial();
     let b = bundle();
     // clap-validator processes at 8 kHz to 768 kHz, fractional rates included.
-    for sr in [8_000.0, 22_050.5, 44_100.25, 192_000.0, 384_000.0, 768_000.0] {
+    for sr in [
+        8_000.0, 22_050.5, 44_100.25, 192_000.0, 384_000.0, 768_000.0,
+    ] {
         for offline in [false, true] {
             let mut inst = instance(&b);
             inst.set_offline(offline).unwrap();
@@ -173,7 +175,10 @@ fn extreme_and_fractional_sample_rates_stay_finite() {
             let (l, r) = inst
                 .render(sr, 2027, &[2027, 17, 1, 256], (0.3 * sr) as u64, &events)
                 .unwrap_or_else(|e| panic!("{sr} Hz: {e}"));
-            assert!(all_finite_normal(&l) && all_finite_normal(&r), "{sr} Hz offline {offline}");
+            assert!(
+                all_finite_normal(&l) && all_finite_normal(&r),
+                "{sr} Hz offline {offline}"
+            );
         }
     }
 }
@@ -199,7 +204,11 @@ fn parameter_values_round_trip_through_text() {
                 .text_to_value(p.id, &text)
                 .unwrap_or_else(|| panic!("{}: {text:?} does not parse back", p.name));
             let again = inst.value_to_text(p.id, back).unwrap();
-            assert_eq!(again, text, "{}: {v} -> {text:?} -> {back} -> {again:?}", p.name);
+            assert_eq!(
+                again, text,
+                "{}: {v} -> {text:?} -> {back} -> {again:?}",
+                p.name
+            );
         }
     }
 }

@@ -1,0 +1,147 @@
+//! # Friction events (T 1770, S 153; digest-sound §2.2)
+//!
+//! A friction event is a connected set of S_P vertices touching an obstacle (the contact
+//! flags of [`crate::collision`], the same proximity test the physics uses); its amplitude is
+//! the mean tangential speed of those vertices relative to the obstacle (the seeds take "the
+//! mean speed of its vertices"; the SCA paper says the relative frictional motion, so the
+//! normal component is removed). Sets slower than `min_slip_speed_m_s` are silent.
+//!
+//! Resonators of a friction event: contact edges are propagation borders, so the part of the
+//! sheet that rubs drives the vibration regions that *border* the contact — the regions of
+//! triangles that have a vertex in the set but are not entirely pressed on the obstacle (a
+//! lifted flap, a curled edge). Each becomes one friction source (the largest
+//! `max_resonators_per_event`). A set with no such rim (the sheet lies flat) is one
+//! constrained resonator made of its pressed triangles: the seeds' quiet, nearly white
+//! "constrained friction" (T 1704).
+
+use crate::sheet::physical::PhysMesh;
+use crate::sheet::topology::NONE;
+use crate::sound_input::{FrictionSource, Obstacle, SoundFrame};
+
+use super::curvature::Curvature;
+use super::resonators::{ResonatorFinder, VibrationRegions};
+use super::{AnalysisConfig, AnalysisInput};
+
+/// Contact components and their resonators.
+#[derive(Clone, Debug, Default)]
+pub struct FrictionFinder {
+    label: Vec<u32>,
+    stack: Vec<u32>,
+    members: Vec<u32>,
+    pressed: Vec<u32>,
+}
+
+impl FrictionFinder {
+    /// Buffers for up to `max_vertices` vertices.
+    pub fn with_capacity(max_vertices: usize) -> Self {
+        Self {
+            label: Vec::with_capacity(max_vertices),
+            stack: Vec::with_capacity(max_vertices),
+            members: Vec::with_capacity(max_vertices),
+            pressed: Vec::with_capacity(4 * max_vertices),
+        }
+    }
+
+    /// Finds the sliding contact sets, appends their friction sources to `out` and returns the
+    /// number of sliding sets.
+    #[allow(clippy::too_many_arguments)]
+    pub fn detect(
+        &mut self,
+        sp: &PhysMesh,
+        curv: &Curvature,
+        regions: &VibrationRegions,
+        finder: &mut ResonatorFinder,
+        input: &AnalysisInput<'_>,
+        cfg: &AnalysisConfig,
+        out: &mut SoundFrame,
+    ) -> u32 {
+        let nv = sp.num_vertices().min(input.contacts.len());
+        let touching = |v: usize| input.contacts.get(v).is_some_and(|c| c.in_contact);
+        self.label.clear();
+        self.label.resize(nv, NONE);
+        let mut events = 0u32;
+        for seed in 0..nv {
+            if !touching(seed) || self.label[seed] != NONE {
+                continue;
+            }
+            // One connected contact set.
+            self.members.clear();
+            self.stack.clear();
+            self.stack.push(seed as u32);
+            self.label[seed] = seed as u32;
+            let mut speed = 0.0f64;
+            let mut counts = [0u32; 4];
+            while let Some(v) = self.stack.pop() {
+                self.members.push(v);
+                let c = input.contacts[v as usize];
+                speed += f64::from(c.slip_speed_m_s);
+                counts[obstacle_index(c.obstacle)] += 1;
+                for &w in sp.topo.neighbours(v) {
+                    let w = w as usize;
+                    if w < nv && touching(w) && self.label[w] == NONE {
+                        self.label[w] = seed as u32;
+                        self.stack.push(w as u32);
+                    }
+                }
+            }
+            let mean = speed / self.members.len() as f64;
+            if !(mean.is_finite() && mean >= cfg.min_slip_speed_m_s) {
+                continue;
+            }
+            events += 1;
+            let obstacle = OBSTACLES[counts
+                .iter()
+                .enumerate()
+                .max_by_key(|(i, c)| (**c, std::cmp::Reverse(*i)))
+                .map_or(0, |(i, _)| i)];
+            // Rim regions and pressed triangles around the set.
+            finder.begin();
+            self.pressed.clear();
+            for &v in &self.members {
+                for t in curv.vertex_triangles(sp, v) {
+                    let tri = sp.triangles[t as usize];
+                    if tri.iter().all(|&u| touching(u as usize)) {
+                        if !self.pressed.contains(&t) {
+                            self.pressed.push(t);
+                        }
+                    } else {
+                        finder.add_region(regions.region_of(t));
+                    }
+                }
+            }
+            let n = if finder.num_candidates() > 0 {
+                finder.select(sp, curv, regions, input, cfg, cfg.max_resonators_per_event)
+            } else if !self.pressed.is_empty() {
+                self.pressed.sort_unstable();
+                finder.measure_into(sp, curv, &self.pressed, input, cfg);
+                1
+            } else {
+                0
+            };
+            for r in 0..n {
+                out.push_friction(FrictionSource {
+                    slip_speed_m_s: mean as f32,
+                    obstacle,
+                    resonator: finder.resonator(r),
+                });
+            }
+        }
+        events
+    }
+}
+
+const OBSTACLES: [Obstacle; 4] = [
+    Obstacle::Table,
+    Obstacle::Wall,
+    Obstacle::Floor,
+    Obstacle::SelfContact,
+];
+
+fn obstacle_index(o: Obstacle) -> usize {
+    match o {
+        Obstacle::Table => 0,
+        Obstacle::Wall => 1,
+        Obstacle::Floor => 2,
+        Obstacle::SelfContact => 3,
+    }
+}
