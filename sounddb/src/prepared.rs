@@ -396,7 +396,7 @@ mod tests {
             let m = friction_frame_len(rate);
             let ms = 1000.0 * m as f64 / rate;
             assert!(
-                m % 2 == 0 && (45.4..=47.4).contains(&ms),
+                m.is_multiple_of(2) && (45.4..=47.4).contains(&ms),
                 "{rate}: {m} = {ms} ms"
             );
         }

@@ -1,0 +1,328 @@
+//! The seeds' observations about paper sound, measured on rendered scenes (issue 6 item 4;
+//! thesis 4.3–4.5, T 1704, 1949–1961; SCA 2016 S 240–250; digest-sound §2, §9).
+//!
+//! Every test runs the real simulation (sim-core `Sim` driven by a scene script, so the
+//! events and resonators come from the sheet's own geometry) and the real render path
+//! (`papier::render::Renderer` with the embedded printer database), in lockstep at 48 kHz,
+//! exactly as `papier-render` does; the kinds of sound are separated by feeding the renderer
+//! only the crumple events or only the friction sources of each frame.
+//!
+//! - a "flap" (a crumple event of a resonator with a free curved border) rings ≥ 100 ms, a
+//!   "clac" (constrained, l_c = 0) is over within 20 ms;
+//! - the friction spectral centroid rises as the sheet shrinks (A4 → A5 → A6);
+//! - a flat sheet sliding on the table is quieter (per unit slip speed) and whiter than a curved
+//!   one;
+//! - moving the sheet nearer the table moves the comb notch where the image-source model puts it;
+//! - more crumple → more crumple events per second.
+
+mod render_common;
+
+use render_common::{anechoic, printer_db, render, renderer};
+
+use papier::render::{RenderOptions, Scene};
+use sim_core::script::Script;
+use sim_core::script_runner::ScriptRunner;
+use sim_core::sim::{FrameOutput, SimConfig};
+use sim_core::sound_input::{CrumpleEvent, FrictionSource, SoundFrame};
+use sim_core::{Command, RoomConfig, SheetSize, scenario};
+
+const RATE: f64 = 48_000.0;
+const FRAME_RATE: f64 = sim_core::sim::DEFAULT_FRAME_RATE_HZ;
+
+/// Plays a script on a fresh sheet (optionally resized first) and records every frame.
+fn play(script: &Script, size: Option<SheetSize>) -> Vec<SoundFrame> {
+    let base = SimConfig::default();
+    let mut runner = ScriptRunner::new(script, FRAME_RATE, base.room).unwrap();
+    let mut sim = runner.start(base);
+    if let Some(s) = size {
+        sim.apply(Command::Size(s));
+    }
+    let mut out = FrameOutput::default();
+    let mut frames = Vec::new();
+    while runner.drive(&mut sim, &mut out) {
+        frames.push(out.sound);
+    }
+    frames
+}
+
+fn scene(name: &str) -> Script {
+    scenario::get(name).unwrap()
+}
+
+/// Renders the friction of recorded frames in lockstep (one frame = 240 samples at 48 kHz);
+/// left channel.
+fn render_friction(frames: &[SoundFrame], scene: Scene) -> Vec<f32> {
+    let mut r = renderer(RATE, printer_db(RATE), 5, scene);
+    let per_frame = (RATE / FRAME_RATE) as usize;
+    let mut left = Vec::with_capacity(frames.len() * per_frame);
+    for f in frames {
+        let mut g = *f;
+        g.take_crumple_count();
+        r.set_frame(&g);
+        let (l, _) = render(&mut r, per_frame, per_frame);
+        left.extend_from_slice(&l);
+    }
+    left
+}
+
+/// Ring time of one unit: from its envelope peak to the last 2 ms window within 30 dB of the
+/// peak, milliseconds.
+fn ring_ms(event: &CrumpleEvent) -> f64 {
+    let mut r = renderer(RATE, printer_db(RATE), 1, anechoic());
+    r.set_options(RenderOptions::reference());
+    let mut e = *event;
+    // Face the listener (in front of the sheet's home centre at ear height) so the dipole
+    // does not hide the unit; the ring time does not depend on the gain.
+    e.resonator.normal = [0.0, -1.0, 0.0];
+    e.amplitude = 1.0;
+    r.trigger(&e);
+    let (l, _) = render(&mut r, (2.0 * RATE) as usize, 512);
+    let win = (0.002 * RATE) as usize;
+    let env: Vec<f64> = l
+        .chunks(win)
+        .map(|c| (c.iter().map(|v| f64::from(*v).powi(2)).sum::<f64>() / c.len() as f64).sqrt())
+        .collect();
+    let (peak_i, peak) = env
+        .iter()
+        .enumerate()
+        .fold((0, 0.0f64), |b, (i, v)| if *v > b.1 { (i, *v) } else { b });
+    assert!(peak > 0.0, "the unit is silent: {event:?}");
+    let floor = peak * 10f64.powf(-30.0 / 20.0);
+    let last = env.iter().rposition(|v| *v >= floor).unwrap_or(peak_i);
+    (last - peak_i) as f64 * 2.0
+}
+
+#[test]
+fn flaps_ring_and_clacs_are_short() {
+    let frames = play(&scene("s4_crumple"), None);
+    let events: Vec<CrumpleEvent> = frames.iter().flat_map(|f| f.crumple().to_vec()).collect();
+    let flaps: Vec<&CrumpleEvent> = events
+        .iter()
+        .filter(|e| !e.resonator.is_constrained())
+        .collect();
+    let clacs: Vec<&CrumpleEvent> = events
+        .iter()
+        .filter(|e| e.resonator.is_constrained())
+        .collect();
+    assert!(
+        flaps.len() >= 10 && clacs.len() >= 10,
+        "the crumple scene gives both kinds: {} flaps, {} clacs",
+        flaps.len(),
+        clacs.len()
+    );
+    // Evenly strided samples of each kind (20 each).
+    let pick = |v: &[&CrumpleEvent]| -> Vec<f64> {
+        (0..20).map(|k| ring_ms(v[k * v.len() / 20])).collect()
+    };
+    let flap_ms = pick(&flaps);
+    let clac_ms = pick(&clacs);
+    eprintln!("flap ring times (ms): {flap_ms:?}");
+    eprintln!("clac ring times (ms): {clac_ms:?}");
+    for (t, e) in flap_ms.iter().zip(0..) {
+        assert!(*t >= 100.0, "flap {e} rings only {t} ms");
+    }
+    for (t, e) in clac_ms.iter().zip(0..) {
+        assert!(*t < 20.0, "clac {e} rings {t} ms");
+    }
+}
+
+fn centroid_and_flatness(x: &[f32]) -> (f64, f64) {
+    let n = 4096;
+    let psd = sounddb::analysis::welch_psd(x, RATE, n);
+    let df = RATE / n as f64;
+    (
+        sounddb::analysis::centroid_hz(&psd, df),
+        sounddb::analysis::flatness(&psd, df, 100.0, 16_000.0),
+    )
+}
+
+/// Mean slip speed of the frames' friction sources (0 when none).
+fn mean_slip(frames: &[SoundFrame]) -> f64 {
+    let v: Vec<f64> = frames
+        .iter()
+        .flat_map(|f| f.friction().iter().map(|s| f64::from(s.slip_speed_m_s)))
+        .collect();
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+/// A sheet held up by its front edge (curved from the table up to the hand) and slid.
+const CURVED_SLIDE: &str = r#"
+version = 1
+duration_s = 3.0
+[set]
+size = "a4"
+[[grab]]
+slot = "front"
+on_s = 0.0
+[[lane]]
+id = "lift"
+interp = "smooth"
+points = [[0.0, 0.0], [0.6, 0.35]]
+[[lane]]
+id = "slide"
+interp = "smooth"
+points = [[0.8, 0.0], [2.8, 0.6]]
+"#;
+
+/// The same slide with the sheet flat: held by its back and front edges on the table.
+const FLAT_SLIDE: &str = r#"
+version = 1
+duration_s = 3.0
+[set]
+size = "a4"
+[[grab]]
+slot = "front"
+on_s = 0.0
+[[grab]]
+slot = "back"
+on_s = 0.0
+[[lane]]
+id = "slide"
+interp = "smooth"
+points = [[0.8, 0.0], [2.8, 0.6]]
+"#;
+
+#[test]
+fn friction_centroid_rises_as_the_sheet_shrinks() {
+    let script = Script::parse(CURVED_SLIDE).unwrap();
+    let mut centroids = Vec::new();
+    for size in [SheetSize::A4, SheetSize::A5, SheetSize::A6] {
+        let frames = play(&script, Some(size));
+        let res: Vec<_> = frames
+            .iter()
+            .flat_map(|f| f.friction().iter().map(|s| s.resonator))
+            .filter(|r| !r.is_constrained())
+            .collect();
+        assert!(!res.is_empty(), "{size:?}: no unconstrained friction");
+        let x = render_friction(&frames, anechoic());
+        let (c, _) = centroid_and_flatness(&x[(0.8 * RATE) as usize..]);
+        let lr = res.iter().map(|r| f64::from(r.lr_cm)).sum::<f64>() / res.len() as f64;
+        let lc = res.iter().map(|r| f64::from(r.lc_cm)).sum::<f64>() / res.len() as f64;
+        eprintln!("{size:?}: centroid {c:.0} Hz, mean l_r {lr:.1} cm, l_c {lc:.1} cm");
+        centroids.push(c);
+    }
+    assert!(
+        centroids[0] < centroids[1] && centroids[1] < centroids[2],
+        "centroids A4, A5, A6: {centroids:?}"
+    );
+}
+
+#[test]
+fn a_flat_slide_is_quieter_and_whiter_than_a_curved_one() {
+    let measure = |text: &str| {
+        let frames = play(&Script::parse(text).unwrap(), None);
+        let speed = mean_slip(&frames);
+        let x = render_friction(&frames, anechoic());
+        let body = &x[(0.8 * RATE) as usize..];
+        let rms = render_common::rms(body);
+        let (_, flat) = centroid_and_flatness(body);
+        let constrained = frames
+            .iter()
+            .flat_map(|f| f.friction().iter())
+            .filter(|s| s.resonator.is_constrained())
+            .count();
+        let total = frames.iter().map(|f| f.friction().len()).sum::<usize>();
+        (rms / speed.max(1e-9), flat, speed, constrained, total)
+    };
+    let flat = measure(FLAT_SLIDE);
+    let curved = measure(CURVED_SLIDE);
+    eprintln!(
+        "flat: rms/speed {:.4}, flatness {:.3}, speed {:.3} m/s, {}/{} constrained",
+        flat.0, flat.1, flat.2, flat.3, flat.4
+    );
+    eprintln!(
+        "curved: rms/speed {:.4}, flatness {:.3}, speed {:.3} m/s, {}/{} constrained",
+        curved.0, curved.1, curved.2, curved.3, curved.4
+    );
+    assert!(flat.2 > 0.01 && curved.2 > 0.01, "both slide");
+    assert!(flat.0 < curved.0, "quieter per unit speed");
+    assert!(flat.1 > curved.1, "whiter");
+}
+
+#[test]
+fn the_comb_notch_follows_the_height_above_the_table() {
+    // A real resonator of the curved slide, placed 2 cm and then 6 cm above the table top,
+    // rubbing at a steady speed; only the table reflects. The first notch of the left ear's
+    // spectrum sits at c / (2 (R̃ − R)) (eq. 4.12) and moves down by the ratio the geometry
+    // predicts.
+    let frames = play(&Script::parse(CURVED_SLIDE).unwrap(), None);
+    let source: FrictionSource = *frames
+        .iter()
+        .flat_map(|f| f.friction().iter())
+        .find(|s| !s.resonator.is_constrained())
+        .expect("a sliding curved region");
+    let room = RoomConfig {
+        table: true,
+        wall: false,
+        ..RoomConfig::default()
+    };
+    let table_z = f64::from(room.table_height_cm) / 100.0;
+    let scene = Scene {
+        room,
+        listener_az_deg: 90.0,
+        listener_dist_m: 1.0,
+    };
+    let mut notches = Vec::new();
+    let mut expected = Vec::new();
+    for d in [0.02f64, 0.06] {
+        let mut s = source;
+        s.slip_speed_m_s = 0.1;
+        s.resonator.centre_m = [0.0, 0.0, (table_z + d) as f32];
+        // Facing the listener, so the dipole gains of source and image have the same sign.
+        s.resonator.normal = [1.0, 0.0, 0.0];
+        let mut r = renderer(RATE, printer_db(RATE), 3, scene);
+        let mut f = SoundFrame::default();
+        f.push_friction(s);
+        r.set_frame(&f);
+        let (l, _) = render(&mut r, (4.0 * RATE) as usize, 4096);
+        let n = 4096;
+        let psd = sounddb::analysis::welch_psd(&l[8192..], RATE, n);
+        let df = RATE / n as f64;
+        let ear = r.ears().ear_m[0];
+        let dist = |p: [f64; 3]| {
+            ((ear[0] - p[0]).powi(2) + (ear[1] - p[1]).powi(2) + (ear[2] - p[2]).powi(2)).sqrt()
+        };
+        let direct = dist([0.0, 0.0, table_z + d]);
+        let image = dist([0.0, 0.0, table_z - d]);
+        let want = 343.0 / (2.0 * (image - direct));
+        // The deepest point within ±30 % of the prediction, relative to the spectrum at half
+        // that frequency (a peak of the comb).
+        let (lo, hi) = ((0.7 * want / df) as usize, (1.3 * want / df) as usize);
+        let k = (lo..hi).min_by(|&a, &b| psd[a].total_cmp(&psd[b])).unwrap();
+        let depth_db = 10.0 * (psd[k] / psd[(0.5 * want / df) as usize]).log10();
+        let got = k as f64 * df;
+        eprintln!("d = {d} m: notch {got:.0} Hz, predicted {want:.0} Hz, depth {depth_db:.1} dB");
+        assert!((got - want).abs() <= 3.0 * df, "{got} vs {want}");
+        assert!(depth_db < -10.0, "a real notch: {depth_db} dB");
+        notches.push(got);
+        expected.push(want);
+    }
+    let ratio = notches[0] / notches[1];
+    let want = expected[0] / expected[1];
+    assert!((ratio / want - 1.0).abs() < 0.08, "{ratio} vs {want}");
+}
+
+#[test]
+fn more_crumple_means_more_crumple_events() {
+    // The same two-hand crumple gesture driven to 0.3, 0.6 and 0.9 (the crumple parameter).
+    let rate_for = |amount: f64| {
+        let text = format!(
+            r#"
+version = 1
+duration_s = 4.0
+[set]
+size = "a4"
+[[lane]]
+id = "crumple"
+interp = "smooth"
+points = [[0.0, 0.0], [2.0, {amount}], [4.0, {amount}]]
+"#
+        );
+        let frames = play(&Script::parse(&text).unwrap(), None);
+        let n: usize = frames.iter().map(|f| f.crumple().len()).sum();
+        n as f64 / 4.0
+    };
+    let rates: Vec<f64> = [0.3, 0.6, 0.9].into_iter().map(rate_for).collect();
+    eprintln!("crumple events per second at crumple 0.3 / 0.6 / 0.9: {rates:?}");
+    assert!(rates[0] < rates[1] && rates[1] < rates[2], "{rates:?}");
+}
