@@ -9,8 +9,9 @@
 //! Resonators of a friction event: contact edges are propagation borders, so the part of the
 //! sheet that rubs drives the vibration regions that *border* the contact — the regions of
 //! triangles that have a vertex in the set but are not entirely pressed on the obstacle (a
-//! lifted flap, a curled edge). Each becomes one friction source (the largest
-//! `max_resonators_per_event`). A set with no such rim (the sheet lies flat) is one
+//! lifted flap, a curled edge). Each free one becomes one friction source (the largest
+//! `max_resonators_per_event`); constrained ones (flat, or with no free curved border) do not
+//! ring and rub as a single source. A set with no such rim (the sheet lies flat) is one
 //! constrained resonator made of its pressed triangles: the seeds' quiet, nearly white
 //! "constrained friction" (T 1704).
 
@@ -118,11 +119,21 @@ impl FrictionFinder {
             } else {
                 0
             };
+            // Constrained regions do not ring: all of them rub as one nearly white source
+            // (the largest, first in area order); each free region is its own source.
+            let mut constrained_done = false;
             for r in 0..n {
+                let resonator = finder.resonator(r);
+                if resonator.is_constrained() {
+                    if constrained_done {
+                        continue;
+                    }
+                    constrained_done = true;
+                }
                 out.push_friction(FrictionSource {
                     slip_speed_m_s: mean as f32,
                     obstacle,
-                    resonator: finder.resonator(r),
+                    resonator,
                 });
             }
         }
