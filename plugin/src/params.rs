@@ -35,8 +35,13 @@ use crate::state::SheetStore;
 /// that needs a migration in `Plugin::filter_state`.
 pub const STATE_VERSION: u32 = 1;
 
-/// Range of the mix and output gains, dB.
+/// Range of the mix and output gains, dB. The bottom of the range is "off" (silence).
 pub const GAIN_RANGE_DB: (f32, f32) = (-60.0, 12.0);
+
+/// Default friction level, dB: friction is linear in slip speed (T 1770), so a fast crumple
+/// rubs the table at several times the recording speed; −12 dB keeps the default mix clear of
+/// the output's soft clipper with crumple units at 0 dB.
+pub const DEFAULT_FRICTION_DB: f32 = -12.0;
 
 /// Range of the listener distance, metres.
 pub const LISTENER_DIST_RANGE_M: (f32, f32) = (0.2, 5.0);
@@ -338,7 +343,7 @@ impl Default for MixParams {
     fn default() -> Self {
         Self {
             crumple_db: gain_param("Crumple Level", 0.0),
-            friction_db: gain_param("Friction Level", 0.0),
+            friction_db: gain_param("Friction Level", DEFAULT_FRICTION_DB),
             tear_db: gain_param("Tear Level", 0.0),
         }
     }

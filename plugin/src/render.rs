@@ -197,8 +197,11 @@ impl RenderOptions {
     }
 }
 
+/// Mix and output levels at or below this are off (the bottom of the parameters' range).
+pub const MUTE_DB: f32 = -60.0;
+
 fn db_to_gain(db: f32) -> f32 {
-    if !db.is_finite() || db <= -120.0 {
+    if !db.is_finite() || db <= MUTE_DB {
         0.0
     } else {
         10f32.powf(db.min(24.0) / 20.0)

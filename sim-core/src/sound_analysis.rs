@@ -22,7 +22,8 @@
 //!    sign flipped with |ΔH| > ε_H. An event is a 4-connected component of such points with
 //!    the same direction of flip; its amplitude is Σ_v Δ_v, measured as an area integral
 //!    (Σ Δ_v · h², metres) and normalised so that 1.0 is a full flip between ±10 m⁻¹
-//!    (radius 5 cm) over a 10 × 10 cm patch. **Frame-rate adaptation (impl. choice):** the
+//!    (radius 5 cm) over a 5 × 5 cm patch (the seeds give no gain constant, digest-sound §13
+//!    item 7; this one puts the crackle of a crumple at the level of the slide in the demo). **Frame-rate adaptation (impl. choice):** the
 //!    seeds compared consecutive animation frames at 1–10 frames/s; at our 200 frames/s a flip
 //!    is spread over several frames, each below any useful threshold. Each point therefore
 //!    compares its curvature with its last *confident* value (|H| > H_conf) instead of the
@@ -125,7 +126,7 @@ impl Default for AnalysisConfig {
             flat_angle_rad: 0.01,
             min_slip_speed_m_s: 0.002,
             max_resonators_per_event: 4,
-            crumple_reference_m: 0.2,
+            crumple_reference_m: 0.05,
             min_event_amplitude: 0.002,
             refractory_s: 0.025,
         }

@@ -51,7 +51,7 @@ impl Resonator {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CrumpleEvent {
     /// Linear gain of the unit: the event amplitude (sum of curvature changes, T 1772),
-    /// scaled so that 1.0 is a full curvature flip of a 10 cm free-edged region.
+    /// scaled so that 1.0 is a full curvature flip (±10 m⁻¹) over a 5 × 5 cm patch.
     pub amplitude: f32,
     /// The patch that rings.
     pub resonator: Resonator,

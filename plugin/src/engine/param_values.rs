@@ -72,7 +72,7 @@ impl Default for ParamValues {
             listener_az_deg: 0.0,
             listener_dist_m: 1.0,
             mix_crumple_db: 0.0,
-            mix_friction_db: 0.0,
+            mix_friction_db: crate::params::DEFAULT_FRICTION_DB,
             mix_tear_db: 0.0,
             gain_db: 0.0,
         }
