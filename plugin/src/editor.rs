@@ -17,7 +17,7 @@
 //!
 //! | part | file |
 //! |---|---|
-//! | the 3D view | [`sheet_view`] ([`projection`], [`shading`], [`region`], [`room_scene`], [`vec3`]) |
+//! | the 3D view | [`sheet_view`] ([`projection`], [`shading`], [`region`], [`room_scene`], [`room_map`], [`vec3`]) |
 //! | XY pad (slide × lift) | [`xy_pad`] |
 //! | grab pad, Reset, Let go | [`grab_pad`] |
 //! | parameter rows | [`param_widgets`] |
@@ -62,6 +62,7 @@ pub mod meters_panel;
 pub mod param_widgets;
 pub mod projection;
 pub mod region;
+pub mod room_map;
 pub mod room_scene;
 pub mod shading;
 pub mod sheet_view;
@@ -212,7 +213,7 @@ impl PapierEditor {
                         vec2(XY_PAD_PX, XY_PAD_PX),
                     )
                     .show(ui)
-                    .on_hover_text("Slide (→) and lift (↑) the held edges");
+                    .on_hover_text("Left to right: slide the held edges; bottom to top: lift them");
                     self.probe.record("xy_pad", xy.rect);
                     ui.add_space(6.0);
                     let pad = self

@@ -5,8 +5,8 @@
 //! corners (any corner zone grabs all four). Pressing a zone grabs, releasing lets go — exactly
 //! a held MIDI note ([`crate::gesture_map`]: 48 back, 50 front, 52 left, 53 right, 55 corners)
 //! with the pad's grip as velocity. With **Hold** on, a click latches the grab instead (one
-//! mouse cannot hold an edge and drag the XY pad at the same time). **Reset sheet** is note 36,
-//! **Let go** note 59.
+//! mouse cannot hold an edge and drag the XY pad at the same time). **Reset sheet** sends note
+//! 36, **Let go** note 59 (on click).
 //!
 //! The pad does not talk to the engine itself: it hands [`MidiInput`] messages to a sink, which
 //! the editor pushes into the lock-free GUI → audio queue
@@ -127,15 +127,12 @@ pub fn hit(rect: Rect, pos: egui::Pos2) -> Option<GrabTarget> {
 pub struct GrabState {
     pressed: Option<GrabTarget>,
     latched: [bool; 5],
-    was_down: bool,
 }
 
 impl GrabState {
-    /// One frame of pointer input: whether the button is down on the pad, and the target under
-    /// the pointer. Emits note on/off messages for the edges of that input.
-    pub fn pointer(
+    /// The primary button went down on the pad over `under` (`None`: between the zones).
+    pub fn press(
         &mut self,
-        down: bool,
         under: Option<GrabTarget>,
         latch: bool,
         grip: f32,
@@ -146,34 +143,34 @@ impl GrabState {
         } else {
             DEFAULT_GRIP
         };
-        if down && !self.was_down {
-            if let Some(t) = under {
-                if latch {
-                    let held = &mut self.latched[t.index()];
-                    *held = !*held;
-                    out(if *held {
-                        MidiInput::NoteOn {
-                            key: t.note(),
-                            velocity,
-                        }
-                    } else {
-                        MidiInput::NoteOff { key: t.note() }
-                    });
-                } else if !self.latched[t.index()] {
-                    self.pressed = Some(t);
-                    out(MidiInput::NoteOn {
-                        key: t.note(),
-                        velocity,
-                    });
+        let Some(t) = under else {
+            return;
+        };
+        if latch {
+            let held = &mut self.latched[t.index()];
+            *held = !*held;
+            out(if *held {
+                MidiInput::NoteOn {
+                    key: t.note(),
+                    velocity,
                 }
-            }
-        } else if !down
-            && self.was_down
-            && let Some(t) = self.pressed.take()
-        {
+            } else {
+                MidiInput::NoteOff { key: t.note() }
+            });
+        } else if !self.latched[t.index()] && self.pressed.is_none() {
+            self.pressed = Some(t);
+            out(MidiInput::NoteOn {
+                key: t.note(),
+                velocity,
+            });
+        }
+    }
+
+    /// The primary button went up (anywhere): a held, unlatched grab lets go.
+    pub fn release(&mut self, out: &mut impl FnMut(MidiInput)) {
+        if let Some(t) = self.pressed.take() {
             out(MidiInput::NoteOff { key: t.note() });
         }
-        self.was_down = down;
     }
 
     /// Lets go of every latched grab (when Hold is switched off).
@@ -197,21 +194,6 @@ impl GrabState {
     }
 }
 
-/// A button that acts on press and on release (a momentary MIDI note).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct MomentaryButton {
-    was_down: bool,
-}
-
-impl MomentaryButton {
-    /// `Some(true)` on press, `Some(false)` on release.
-    pub fn update(&mut self, down: bool) -> Option<bool> {
-        let edge = (down != self.was_down).then_some(down);
-        self.was_down = down;
-        edge
-    }
-}
-
 /// Rectangles of the pad's buttons, for the layout probe.
 #[derive(Clone, Copy, Debug)]
 pub struct ButtonRects {
@@ -231,8 +213,6 @@ pub struct GrabPad {
     pub latch: bool,
     /// Grip (note velocity) 0–1.
     pub grip: f32,
-    reset: MomentaryButton,
-    let_go: MomentaryButton,
 }
 
 impl Default for GrabPad {
@@ -241,8 +221,6 @@ impl Default for GrabPad {
             state: GrabState::default(),
             latch: false,
             grip: DEFAULT_GRIP,
-            reset: MomentaryButton::default(),
-            let_go: MomentaryButton::default(),
         }
     }
 }
@@ -250,11 +228,34 @@ impl Default for GrabPad {
 impl GrabPad {
     /// Draws the diagram (`size` logical pixels) and handles the pointer on it; sends messages
     /// to `sink`. Returns the diagram's rectangle.
+    ///
+    /// Presses and releases are taken from the frame's input events, in order, so a click
+    /// shorter than a frame still grabs and lets go.
     pub fn pad(&mut self, ui: &mut Ui, size: Vec2, sink: &mut impl FnMut(MidiInput)) -> Rect {
-        let (rect, response) = ui.allocate_exact_size(size, Sense::drag());
-        let down = response.is_pointer_button_down_on();
-        let under = response.interact_pointer_pos().and_then(|p| hit(rect, p));
-        self.state.pointer(down, under, self.latch, self.grip, sink);
+        let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
+        let on_top = response.contains_pointer() || response.is_pointer_button_down_on();
+        let events: Vec<(egui::Pos2, bool)> = ui.input(|i| {
+            i.events
+                .iter()
+                .filter_map(|e| match e {
+                    egui::Event::PointerButton {
+                        pos,
+                        button: egui::PointerButton::Primary,
+                        pressed,
+                        ..
+                    } => Some((*pos, *pressed)),
+                    _ => None,
+                })
+                .collect()
+        });
+        for (pos, pressed) in events {
+            if !pressed {
+                self.state.release(sink);
+            } else if on_top && rect.contains(pos) {
+                self.state
+                    .press(hit(rect, pos), self.latch, self.grip, sink);
+            }
+        }
         let hover = response.hover_pos().and_then(|p| hit(rect, p));
         self.paint(ui, rect, hover);
         rect
@@ -288,30 +289,26 @@ impl GrabPad {
                 .button("Reset sheet")
                 .on_hover_text("A new flat sheet (note 36)");
             rects.reset = r.rect;
-            match self.reset.update(r.is_pointer_button_down_on()) {
-                Some(true) => sink(MidiInput::NoteOn {
+            if r.clicked() {
+                sink(MidiInput::NoteOn {
                     key: NOTE_RESET,
                     velocity: 1.0,
-                }),
-                Some(false) => sink(MidiInput::NoteOff { key: NOTE_RESET }),
-                None => {}
+                });
+                sink(MidiInput::NoteOff { key: NOTE_RESET });
             }
             let r = ui
                 .button("Let go")
                 .on_hover_text("Release every hand (note 59)");
             rects.let_go = r.rect;
-            match self.let_go.update(r.is_pointer_button_down_on()) {
-                Some(true) => {
-                    sink(MidiInput::NoteOn {
-                        key: NOTE_RELEASE_ALL,
-                        velocity: 1.0,
-                    });
-                    self.state.forget_all();
-                }
-                Some(false) => sink(MidiInput::NoteOff {
+            if r.clicked() {
+                sink(MidiInput::NoteOn {
                     key: NOTE_RELEASE_ALL,
-                }),
-                None => {}
+                    velocity: 1.0,
+                });
+                sink(MidiInput::NoteOff {
+                    key: NOTE_RELEASE_ALL,
+                });
+                self.state.forget_all();
             }
         });
         rects
@@ -403,14 +400,18 @@ mod tests {
         assert!((area - r.area()).abs() < 1e-2);
     }
 
+    /// Feeds steps (`Some(under)` = press over a target, `None` = release).
     fn run(
         state: &mut GrabState,
-        steps: &[(bool, Option<GrabTarget>)],
+        steps: &[Option<Option<GrabTarget>>],
         latch: bool,
     ) -> Vec<MidiInput> {
         let mut out = Vec::new();
-        for &(down, under) in steps {
-            state.pointer(down, under, latch, 0.5, &mut |m| out.push(m));
+        for step in steps {
+            match step {
+                Some(under) => state.press(*under, latch, 0.5, &mut |m| out.push(m)),
+                None => state.release(&mut |m| out.push(m)),
+            }
         }
         out
     }
@@ -418,12 +419,8 @@ mod tests {
     #[test]
     fn press_grabs_and_release_lets_go() {
         let mut s = GrabState::default();
-        let front = Some(GrabTarget::Front);
-        let out = run(
-            &mut s,
-            &[(false, None), (true, front), (true, front), (true, None)],
-            false,
-        );
+        let front = Some(Some(GrabTarget::Front));
+        let out = run(&mut s, &[front], false);
         assert_eq!(
             out,
             vec![MidiInput::NoteOn {
@@ -432,24 +429,34 @@ mod tests {
             }]
         );
         assert!(s.is_held(GrabTarget::Front));
-        // Released anywhere (the pointer left the zone while held): the same slot lets go.
-        let out = run(&mut s, &[(false, None)], false);
+        // A second press while held (another button) does not grab twice.
+        assert!(run(&mut s, &[Some(Some(GrabTarget::Back))], false).is_empty());
+        // Released anywhere: the slot that was grabbed lets go.
+        let out = run(&mut s, &[None], false);
         assert_eq!(out, vec![MidiInput::NoteOff { key: 50 }]);
         assert!(!s.is_held(GrabTarget::Front));
-        // A press outside every zone does nothing, nor does its release.
-        assert!(run(&mut s, &[(true, None), (false, None)], false).is_empty());
+        // A press between the zones does nothing, nor does its release.
+        assert!(run(&mut s, &[Some(None), None], false).is_empty());
+        // A click shorter than a frame is a grab and a release, in order.
+        let out = run(&mut s, &[Some(Some(GrabTarget::Right)), None], false);
+        assert_eq!(
+            out,
+            vec![
+                MidiInput::NoteOn {
+                    key: 53,
+                    velocity: 0.5
+                },
+                MidiInput::NoteOff { key: 53 }
+            ]
+        );
     }
 
     #[test]
     fn hold_mode_latches_until_clicked_again_or_switched_off() {
         let mut s = GrabState::default();
-        let c = Some(GrabTarget::Corners);
-        let b = Some(GrabTarget::Back);
-        let out = run(
-            &mut s,
-            &[(true, c), (false, c), (true, b), (false, b)],
-            true,
-        );
+        let c = Some(Some(GrabTarget::Corners));
+        let b = Some(Some(GrabTarget::Back));
+        let out = run(&mut s, &[c, None, b, None], true);
         assert_eq!(
             out,
             vec![
@@ -464,7 +471,7 @@ mod tests {
             ]
         );
         assert!(s.is_held(GrabTarget::Corners) && s.is_held(GrabTarget::Back));
-        let out = run(&mut s, &[(true, c), (false, c)], true);
+        let out = run(&mut s, &[c, None], true);
         assert_eq!(out, vec![MidiInput::NoteOff { key: 55 }]);
         let mut out = Vec::new();
         s.unlatch(&mut |m| out.push(m));
@@ -476,7 +483,7 @@ mod tests {
     fn grip_becomes_a_sane_velocity() {
         let mut s = GrabState::default();
         let mut out = Vec::new();
-        s.pointer(true, Some(GrabTarget::Left), false, f32::NAN, &mut |m| {
+        s.press(Some(GrabTarget::Left), false, f32::NAN, &mut |m| {
             out.push(m)
         });
         assert_eq!(
@@ -486,16 +493,6 @@ mod tests {
                 velocity: DEFAULT_GRIP
             }]
         );
-    }
-
-    #[test]
-    fn momentary_button_reports_edges_once() {
-        let mut b = MomentaryButton::default();
-        assert_eq!(b.update(false), None);
-        assert_eq!(b.update(true), Some(true));
-        assert_eq!(b.update(true), None);
-        assert_eq!(b.update(false), Some(false));
-        assert_eq!(b.update(false), None);
     }
 
     #[test]

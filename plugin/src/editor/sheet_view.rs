@@ -4,8 +4,9 @@
 //! camera ([`super::projection`]), one flat-shaded colour per triangle ([`super::shading`]) by
 //! region kind ([`super::region`]), back faces tinted, triangles sorted back to front (painter's
 //! algorithm), the outline of the sheet, dots on held (handle) and singular vertices, the floor,
-//! table and wall ([`super::room_scene`]) and the listener's head. Drag to orbit, scroll to
-//! zoom, double-click to return to the default view.
+//! table and wall ([`super::room_scene`]) and the listener's head, with a map of the room seen
+//! from above in a corner ([`super::room_map`]). Drag to orbit, scroll to zoom, double-click to
+//! return to the default view.
 //!
 //! **Where the mesh comes from.** The simulation (worker thread, or the engine in offline
 //! lockstep) copies its mesh into the editor's own triple buffer only while the editor is open
@@ -20,6 +21,7 @@ use sim_core::room::RoomConfig;
 
 use super::projection::{OrbitCamera, Projector};
 use super::region::{HANDLE_DOT_COLOUR, RegionClassifier, RegionKind, SINGULAR_DOT_COLOUR};
+use super::room_map::{self, MAP_SIZE_PX};
 use super::room_scene::{HEAD_RADIUS_M, RoomScene};
 use super::shading::{face_normal, facing, shade};
 use super::vec3::{V3, add, scale};
@@ -52,6 +54,7 @@ pub struct SheetView {
     boundary_of: Vec<[u32; 3]>,
     screen: Vec<Option<(Pos2, f32)>>,
     clipped: Vec<V3>,
+    map_edges: Vec<[V3; 2]>,
 }
 
 impl Default for SheetView {
@@ -68,6 +71,7 @@ impl Default for SheetView {
             boundary_of: Vec::new(),
             screen: Vec::new(),
             clipped: Vec::new(),
+            map_edges: Vec::new(),
         }
     }
 }
@@ -206,6 +210,20 @@ impl SheetView {
             self.polygon(&painter, &proj, wall, WALL_COLOUR.gamma_multiply(0.6));
         }
         self.draw_overlay(&painter, rect);
+        let map = Rect::from_min_size(
+            pos2(rect.right() - MAP_SIZE_PX - 8.0, rect.top() + 8.0),
+            egui::vec2(MAP_SIZE_PX, MAP_SIZE_PX),
+        );
+        self.map_edges.clear();
+        if self.frame.valid {
+            let pos = &self.frame.mesh.positions_m;
+            self.map_edges.extend(
+                self.boundary
+                    .iter()
+                    .filter_map(|&[a, b]| Some([*pos.get(a as usize)?, *pos.get(b as usize)?])),
+            );
+        }
+        room_map::draw(&painter, map, &scene, &self.map_edges);
         response
     }
 

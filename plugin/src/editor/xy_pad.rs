@@ -10,7 +10,7 @@
 //! [`INSET_PX`] so the handle stays visible at the limits); y grows upwards.
 
 use egui::{
-    Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeKind, Ui, Vec2, pos2,
+    Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeKind, Ui, Vec2, pos2, vec2,
 };
 use nice_plug::context::gui::ParamSetter;
 use nice_plug::prelude::{FloatParam, Param};
@@ -70,7 +70,7 @@ impl<'a> XyPad<'a> {
 
     /// Draws the pad and handles the pointer.
     pub fn show(self, ui: &mut Ui) -> Response {
-        let (rect, response) = ui.allocate_exact_size(self.size, Sense::drag());
+        let (rect, response) = ui.allocate_exact_size(self.size, Sense::click_and_drag());
         let id = response.id;
         let was_down = ui.data(|d| d.get_temp::<bool>(id).unwrap_or(false));
         let down = response.is_pointer_button_down_on();
@@ -90,6 +90,19 @@ impl<'a> XyPad<'a> {
         if !down && was_down {
             self.setter.end_set_parameter(self.x);
             self.setter.end_set_parameter(self.y);
+        }
+        // A click shorter than a frame never shows the button down: set the values anyway.
+        if !down
+            && !was_down
+            && response.clicked()
+            && let Some(p) = response.interact_pointer_pos()
+        {
+            let (nx, ny) = normalized_at(rect, p);
+            for (param, v) in [(self.x, nx), (self.y, ny)] {
+                self.setter.begin_set_parameter(param);
+                self.setter.set_parameter_normalized(param, v);
+                self.setter.end_set_parameter(param);
+            }
         }
         if down != was_down {
             ui.data_mut(|d| d.insert_temp(id, down));
@@ -130,17 +143,21 @@ impl<'a> XyPad<'a> {
         );
         let font = FontId::proportional(11.0);
         let text = Color32::from_gray(200);
+        let axis = Stroke::new(1.5, Color32::from_gray(170));
+        let origin = inner.left_bottom() + vec2(3.0, -3.0);
+        painter.arrow(origin, vec2(18.0, 0.0), axis);
+        painter.arrow(origin, vec2(0.0, -18.0), axis);
         painter.text(
             pos2(inner.right(), inner.bottom()),
             Align2::RIGHT_BOTTOM,
-            format!("{} → {}", self.x.name(), self.x),
+            format!("{} {}", self.x.name(), self.x),
             font.clone(),
             text,
         );
         painter.text(
             pos2(inner.left(), inner.top()),
             Align2::LEFT_TOP,
-            format!("{} ↑ {}", self.y.name(), self.y),
+            format!("{} {}", self.y.name(), self.y),
             font,
             text,
         );
@@ -150,7 +167,6 @@ impl<'a> XyPad<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use egui::vec2;
 
     fn rect() -> Rect {
         Rect::from_min_size(pos2(20.0, 40.0), vec2(116.0, 116.0))
