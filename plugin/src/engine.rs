@@ -71,6 +71,17 @@ pub enum SimMode {
     Threaded,
 }
 
+/// Brings a freshly built sheet's gestures in line with the parameters (its size, material,
+/// seed and room come from [`crate::sim_config`]). Only what differs is applied.
+pub fn sync_fresh_sim(sim: &mut Sim, params: &ParamValues) {
+    for g in GestureParam::ALL {
+        let value = params.gestures[g.index()];
+        if sim.gesture(g).to_bits() != value.to_bits() {
+            sim.apply(Command::Gesture { param: g, value });
+        }
+    }
+}
+
 /// Lowest gain the MIDI volume can produce, dB (CC 7 = 0 maps here, not to −∞).
 const MIN_VOLUME_DB: f32 = -120.0;
 
@@ -144,11 +155,15 @@ fn scene(p: &ParamValues) -> Scene {
 
 impl Engine {
     /// Starts an engine around a sheet. `store_generation` is the sheet store generation the
-    /// sheet is based on. Allocates (call from `activate()` or offline code).
+    /// sheet is based on. `params` are the parameter values the sheet already reflects (the
+    /// first [`Engine::begin_block`] sends what differs from them): for a fresh sheet, the values
+    /// it was built and [synced](sync_fresh_sim) with; for a sheet kept across a deactivation,
+    /// the values at deactivation; for a sheet restored from a project, the loaded values.
+    /// Allocates (call from `activate()` or offline code).
     pub fn new(
         mode: SimMode,
         sample_rate_hz: f64,
-        mut sim: Sim,
+        sim: Sim,
         params: &ParamValues,
         db: Arc<SoundDb>,
         store: Arc<SheetStore>,
@@ -156,28 +171,6 @@ impl Engine {
         meters: Arc<Meters>,
         view: Arc<ViewShared>,
     ) -> Result<Self, EngineError> {
-        // The sheet follows the parameters: bring it in line before the first frame. Only what
-        // differs is sent, so that a restored sheet at rest stays at rest (and re-saves
-        // identically).
-        let cfg = *sim.config();
-        if cfg.size != params.size {
-            sim.apply(Command::Size(params.size));
-        }
-        if cfg.material != params.material {
-            sim.apply(Command::Material(params.material));
-        }
-        if cfg.seed != params.seed {
-            sim.apply(Command::Seed(params.seed));
-        }
-        if cfg.room != params.room.sanitized() {
-            sim.apply(Command::Room(params.room));
-        }
-        for g in GestureParam::ALL {
-            let value = params.gestures[g.index()];
-            if sim.gesture(g).to_bits() != value.to_bits() {
-                sim.apply(Command::Gesture { param: g, value });
-            }
-        }
         let frames = FrameClock::new(sample_rate_hz, sim.config().frame_rate_hz);
         let mut renderer = Renderer::new(sample_rate_hz, db, params.seed);
         renderer.set_mix(mix_levels(params, 1.0));
@@ -230,6 +223,11 @@ impl Engine {
             meters,
             host,
         })
+    }
+
+    /// The parameter values the engine last saw.
+    pub fn last_params(&self) -> ParamValues {
+        self.last
     }
 
     /// Samples rendered so far.
@@ -303,9 +301,12 @@ impl Engine {
     pub fn begin_block(&mut self, p: &ParamValues) {
         let at = self.clock;
         let generation = self.store.generation();
-        if generation != self.store_generation {
-            // A project state was loaded: the sheet comes from the store, and its parameters
-            // are the loaded ones (no size/material change must rebuild it).
+        let restored = generation != self.store_generation;
+        if restored {
+            // A project state was loaded: the sheet comes from the store, and the loaded
+            // parameters are the ones it was saved with. No size/material change may rebuild
+            // it, and its gesture state (which may come from MIDI CCs) is kept: the latest change
+            // before the save wins, as it did while playing.
             self.store_generation = generation;
             self.send(at, WorkerMsgKind::RestoreSheet);
         } else {
@@ -324,7 +325,7 @@ impl Engine {
         }
         for g in GestureParam::ALL {
             let v = p.gestures[g.index()];
-            if v.to_bits() != self.last.gestures[g.index()].to_bits() {
+            if !restored && v.to_bits() != self.last.gestures[g.index()].to_bits() {
                 self.command(at, Command::Gesture { param: g, value: v });
             }
         }
@@ -456,10 +457,11 @@ impl Engine {
                 self.renderer.render(&mut left[..n], &mut right[..n]);
             }
         }
-        // Belt and braces: the render path guarantees finite output; never let a NaN out.
+        // Belt and braces: the render path guarantees finite, normal output; never let a NaN,
+        // an infinity or a subnormal out.
         let mut peak = 0.0f32;
         for s in left[..n].iter_mut().chain(right[..n].iter_mut()) {
-            if !s.is_finite() {
+            if !(s.is_normal() || *s == 0.0) {
                 *s = 0.0;
             }
             peak = peak.max(s.abs());

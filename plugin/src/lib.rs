@@ -81,8 +81,9 @@ pub struct Papier {
     view: Arc<ViewShared>,
     /// The running engine (between `activate()` and `deactivate()`).
     engine: Option<Engine>,
-    /// The sheet while no engine runs, with the store generation it is based on.
-    parked: Option<(Sim, u64)>,
+    /// The sheet while no engine runs, with the store generation it is based on and the
+    /// parameter values it reflects.
+    parked: Option<(Sim, u64, ParamValues)>,
     /// The sound database in use.
     db: Arc<SoundDb>,
     /// Sample rate (bits) and user path the database was prepared for.
@@ -108,15 +109,17 @@ impl Default for Papier {
 
 impl Papier {
     fn stop_engine(&mut self) {
-        if let Some(engine) = self.engine.take()
-            && let Some((sim, generation)) = engine.into_sim()
-        {
+        if let Some(engine) = self.engine.take() {
+            let last = engine.last_params();
+            let Some((sim, generation)) = engine.into_sim() else {
+                return;
+            };
             // A moving sheet is published so the saved project holds where it is now; a sheet
             // at rest was already published when it came to rest.
             if !sim.is_asleep() {
                 self.params.sheet_store.publish(sim.save(), generation);
             }
-            self.parked = Some((sim, generation));
+            self.parked = Some((sim, generation, last));
         }
     }
 }
@@ -175,18 +178,21 @@ impl Plugin for Papier {
         }
         let values = self.params.values();
         let store = self.params.sheet_store.clone();
-        let (mut sim, mut generation) = self
-            .parked
-            .take()
-            .unwrap_or_else(|| (Sim::new(sim_config(&values)), 0));
+        let (mut sim, mut generation, mut reflected) = self.parked.take().unwrap_or_else(|| {
+            let mut sim = Sim::new(sim_config(&values));
+            engine::sync_fresh_sim(&mut sim, &values);
+            (sim, 0, values)
+        });
         if generation != store.generation() {
+            // A project was loaded: its sheet goes with its parameters.
             generation = engine::worker::restore_from_store(&mut sim, &store, generation);
+            reflected = values;
         }
         match Engine::new(
             mode,
             rate,
             sim,
-            &values,
+            &reflected,
             self.db.clone(),
             store,
             generation,

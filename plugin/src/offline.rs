@@ -224,7 +224,8 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
 
     let meters = Arc::new(Meters::default());
-    let sim = Sim::new(crate::sim_config(&params));
+    let mut sim = Sim::new(crate::sim_config(&params));
+    crate::engine::sync_fresh_sim(&mut sim, &params);
     let mut engine = Engine::new(
         SimMode::Lockstep,
         sr,

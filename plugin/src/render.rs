@@ -161,6 +161,9 @@ pub struct RenderOptions {
     pub skip_idle_tear: bool,
     /// Reference mode: run the image code even without a reflector, with silent taps.
     pub force_image_path: bool,
+    /// Reuse a friction source's |H(ω)| while it stays within 1 mm / 0.01 of where it was
+    /// computed, in the same scene (§11.6).
+    pub cache_geometry: bool,
     /// Floor of |cos θ| of the dipole.
     pub cos_floor: f64,
 }
@@ -173,6 +176,7 @@ impl Default for RenderOptions {
             skip_silent_friction: true,
             skip_idle_tear: true,
             force_image_path: false,
+            cache_geometry: true,
             cos_floor: COS_FLOOR,
         }
     }
@@ -187,6 +191,7 @@ impl RenderOptions {
             skip_silent_friction: false,
             skip_idle_tear: false,
             force_image_path: true,
+            cache_geometry: false,
             cos_floor: COS_FLOOR,
         }
     }
@@ -216,6 +221,8 @@ pub struct Renderer {
     ears: Ears,
     reflectors: [Plane; MAX_REFLECTORS],
     num_reflectors: usize,
+    /// Incremented by every `set_scene` (invalidates cached spatial terms).
+    scene_version: u64,
     mix: MixLevels,
     gains: [GainSmoother; 4],
     tear_ear_gain: [GainSmoother; 2],
@@ -256,6 +263,7 @@ impl Renderer {
                 normal: [0.0, 0.0, 1.0],
             }; MAX_REFLECTORS],
             num_reflectors: 0,
+            scene_version: 0,
             mix,
             gains: [GainSmoother::new(1.0, rate); 4],
             tear_ear_gain: [GainSmoother::new(1.0, rate); 2],
@@ -289,6 +297,8 @@ impl Renderer {
         self.voices.reset();
         self.friction.reset();
         self.tear.reset();
+        self.tear_tip = [0.0; 3];
+        self.update_tear_gains();
         self.snap_gains();
         self.clock = 0;
         self.batch = 0;
@@ -310,6 +320,7 @@ impl Renderer {
     pub fn set_scene(&mut self, scene: Scene) {
         let scene = scene.sanitized();
         self.scene = scene;
+        self.scene_version += 1;
         self.ears = Ears::from_scene(&scene);
         self.num_reflectors = 0;
         for p in scene.room.reflectors().take(MAX_REFLECTORS) {
@@ -431,6 +442,7 @@ impl Renderer {
             db,
             &self.ears,
             &self.reflectors[..self.num_reflectors],
+            self.scene_version,
             &self.opts,
             fl,
             fr,
@@ -445,8 +457,8 @@ impl Renderer {
         let [tl, tr] = &mut self.tear_ear_gain;
         let (mut clipped, mut nonfinite) = (0u64, 0u64);
         for t in 0..n {
-            let (c, f, te, o) = (gc.next(), gf.next(), gt.next(), go.next());
-            let (el, er) = (tl.next(), tr.next());
+            let (c, f, te, o) = (gc.tick(), gf.tick(), gt.tick(), go.tick());
+            let (el, er) = (tl.tick(), tr.tick());
             let l = o * (c * cl[t] + f * fl[t] + te * el * tm[t]);
             let r = o * (c * cr[t] + f * fr[t] + te * er * tm[t]);
             let (l, lc, ln) = output_stage::safety(l);

@@ -41,13 +41,14 @@ use crate::room::RoomConfig;
 use crate::sound_input::Obstacle;
 
 /// Contact frequency ω_c of the penalty, rad/s.
-pub const CONTACT_OMEGA_RAD_S: f64 = 1000.0;
+pub const CONTACT_OMEGA_RAD_S: f64 = 4000.0;
 /// Slip speed below which friction behaves as viscous sticking, m/s.
 pub const STICK_SPEED_M_S: f64 = 2e-3;
 /// Speed at which a moved or switched-on obstacle plane travels to its new place, m/s.
 pub const OBSTACLE_EASE_SPEED_M_S: f64 = 0.5;
 /// Skin: penalty activation distance, metres (`g / ω_c²`).
-pub const CONTACT_SKIN_M: f64 = crate::math::GRAVITY_M_S2 / (CONTACT_OMEGA_RAD_S * CONTACT_OMEGA_RAD_S);
+pub const CONTACT_SKIN_M: f64 =
+    crate::math::GRAVITY_M_S2 / (CONTACT_OMEGA_RAD_S * CONTACT_OMEGA_RAD_S);
 /// Distance under which a vertex counts as touching an obstacle (for the contact report), m.
 pub const TOUCH_DIST_M: f64 = 4.0 * CONTACT_SKIN_M + 1e-4;
 
@@ -135,7 +136,11 @@ impl Obstacles {
             match pl {
                 Some(plane) => {
                     let n = V3::new(plane.normal[0], plane.normal[1], plane.normal[2]);
-                    let target = n.dot(&V3::new(plane.point_m[0], plane.point_m[1], plane.point_m[2]));
+                    let target = n.dot(&V3::new(
+                        plane.point_m[0],
+                        plane.point_m[1],
+                        plane.point_m[2],
+                    ));
                     if !p.active {
                         // Start just below the lowest sheet vertex (on the solid side).
                         let min_d = positions
@@ -153,6 +158,24 @@ impl Obstacles {
                     p.target_offset_m = target;
                 }
                 None => p.active = false,
+            }
+        }
+    }
+
+    /// Moves every active plane that has part of `positions` on its solid side back until the
+    /// whole set is outside (the plane then eases in). Used when a new sheet appears (new sim,
+    /// reset, size change) in a room whose wall cuts through the sheet's home place.
+    pub fn fit_outside(&mut self, positions: &[V3]) {
+        for p in &mut self.planes {
+            if !p.active {
+                continue;
+            }
+            let min_d = positions
+                .iter()
+                .map(|x| p.distance(x))
+                .fold(f64::INFINITY, f64::min);
+            if min_d.is_finite() && min_d < 0.0 {
+                p.offset_m += min_d - 2.0 * CONTACT_SKIN_M;
             }
         }
     }
@@ -262,7 +285,10 @@ mod tests {
         o.set_room(&r2, &sheet);
         let wall = o.planes[2];
         assert!(wall.active);
-        assert!(wall.distance(&sheet[1]) > 0.0, "wall starts outside the sheet");
+        assert!(
+            wall.distance(&sheet[1]) > 0.0,
+            "wall starts outside the sheet"
+        );
         assert!((wall.target_offset_m + 0.02).abs() < 1e-12);
         let mut frames = 0;
         while o.is_moving() {

@@ -50,7 +50,9 @@ impl SheetSize {
 
     /// Parses a stable id (case-insensitive).
     pub fn from_id(id: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|s| s.id().eq_ignore_ascii_case(id))
+        Self::ALL
+            .into_iter()
+            .find(|s| s.id().eq_ignore_ascii_case(id))
     }
 
     /// (width, length) in centimetres.
@@ -106,7 +108,9 @@ impl Material {
 
     /// Parses a stable id (case-insensitive).
     pub fn from_id(id: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.id().eq_ignore_ascii_case(id))
+        Self::ALL
+            .into_iter()
+            .find(|m| m.id().eq_ignore_ascii_case(id))
     }
 }
 
@@ -149,7 +153,9 @@ impl GrabSlot {
 
     /// Parses a stable id (case-insensitive).
     pub fn from_id(id: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|s| s.id().eq_ignore_ascii_case(id))
+        Self::ALL
+            .into_iter()
+            .find(|s| s.id().eq_ignore_ascii_case(id))
     }
 
     /// Index into per-slot arrays.

@@ -1,4 +1,4 @@
-//! # The gesture rig: gesture values → handle targets
+//! # The gesture rig: gesture values → hand targets
 //!
 //! The seeds drive the sheet by handles, hard constraints with a controlled tangent plane
 //! (T 714/730, P 388–394, 450; digest-tearing §4.1), moved by a user. A plugin is driven by
@@ -13,39 +13,72 @@
 //! | left / right | 2 on the left (−x) / right (+x) edge at 25 % and 75 % of the length |
 //! | corners | the 4 corners |
 //!
-//! Each handle holds its vertex and 2–4 tangent-plane neighbours ([`crate::handles`]). A grab
-//! takes hold where the sheet is; the pose then travels to its target at the grip speed
-//! `0.05 + 1.95·grip` m/s (grip = note velocity 0–1), never more than
-//! [`TRAVEL_CLAMP_FRAC`] × L_paper per frame. Release frees the vertices with their velocity.
+//! Each handle holds its vertex and 2–4 tangent-plane neighbours ([`crate::handles`]). The two
+//! handles of an edge slot are one **hand** (one rigid grip, like thumb and finger of one
+//! pinch); each corner is a hand of its own. A grab takes hold where the sheet is; the hand
+//! then travels to its target at the grip speed `0.05 + 1.95·grip` m/s (grip = note velocity
+//! 0–1), never more than [`TRAVEL_CLAMP_FRAC`] × L_paper per frame. Release frees the vertices
+//! with their velocity.
 //!
-//! ## Target pose of a handle
+//! ## Target pose of a hand
 //!
-//! Home pose = pattern position at the table-top height, flat frame. Then:
+//! Home pose = the pattern position of the hand's reference point (the centroid of its handle
+//! vertices) at the table-top height, flat frame. Then:
 //! - **slide** s ∈ [0,1]: towards the sheet centre along the inward normal of the handle's own
 //!   edge by s·span/4 (span = the sheet's extent across that edge: the length for back/front,
 //!   the width for left/right; corners move diagonally by (W/4, L/4)·s). Back + front held →
 //!   the edges approach (the sheet curves up, S1/C1); front only → the front edge pushes the
 //!   sheet along the table (S6) towards the wall at +y (S3).
-//! - **lift** ℓ ∈ [0,1]: the front group (handles with pattern y < 0) rises by ℓ·L/2.
+//!   The held patches also tilt (inner side up) by 0.7 × the angle at which a free arc
+//!   would leave its ends for that approach ([`arc_half_angle`]), so the sheet bows upwards:
+//!   a perfectly flat sheet pressed on the table is a symmetric equilibrium that the implicit
+//!   solver would otherwise keep, compressing the sheet in-plane instead of bending it.
+//! - **lift** ℓ ∈ [0,1]: the front group (the front-edge hand and the two front corners) rises
+//!   by ℓ·L/2. The left and right hands hold the front *and* the back part of their edge
+//!   rigidly, so they pivot about their back finger until the front finger has risen by ℓ·L/2
+//!   (angle asin ℓ) — raising one finger of a rigid pinch by L/2 and not the other would have to
+//!   stretch the paper between them (impl. choice, isometric reading of "the front handles of
+//!   the left/right edges rise").
 //! - **twist** τ ∈ [−1,1]: the front group's positions and frames rotate by τ·π about the
 //!   sheet's long axis (the line x = 0 parallel to y at the group's lifted height); positive τ
-//!   raises the right (+x) side (Möbius-like twist C2, flap S5, one-corner lift C6).
+//!   raises the right (+x) side (Möbius-like twist C2, flap S5, one-corner lift C6). The left
+//!   and right hands do not twist (they span both sides of the front/back divide).
 //! - **shake** d, f: every active handle moves vertically by `d·0.05·L·sin(φ)`, φ advancing by
 //!   2π·f·dt each frame (a continuous phase, so rate changes do not jump).
 //! - **crumple** c ∈ [0,1]: while c > 0, 8 boundary points (4 corners + 4 edge midpoints)
 //!   become handles ("two hands squeezing") whose targets move towards the centre,
 //!   `centre + (1 − c·k)(p − centre)` with k = [`CRUMPLE_CAP`], plus a seeded jitter, a lift of
-//!   ≈ c·0.1·L and a tilt of the held patch (inner side up, c·[`CRUMPLE_TILT_RAD`]). They take
-//!   precedence over slot handles on the same vertices; c back to 0 releases them.
+//!   ≈ c·0.1·L and a tilt of the frame (inner side up, c·[`CRUMPLE_TILT_RAD`]). They are
+//!   *point* handles (no tangent-plane neighbours, impl. choice): a squeezing hand presses
+//!   points, and rigid tangent patches of neighbouring hands would collide as the ring of hands
+//!   shrinks, crushing the paper between them. They take precedence over slot handles on the
+//!   same vertices; c back to 0 releases them.
+//!
+//! When two hands contest a vertex (a neighbour of both), the earlier grab keeps it; a held
+//! neighbour that would touch (share an edge with) a vertex of another hand is not held, so two
+//! rigid grips are never joined by a single edge.
+//!
+//! **Grip force.** Hard constraints can contradict each other (hands pulling the sheet apart,
+//! a squeeze against held edges): the sheet would then be crushed or torn by the solver. A real
+//! pinch holds only so much: each finger (handle) holds at most `1 + 4·grip` N
+//! ([`grip_force_n`]); when the elastic pull of the sheet on the held vertices of a hand
+//! exceeds the sum of its fingers' grips, the hand gives way along the pull (by
+//! [`HAND_COMPLIANCE_M_N`] per newton of excess, at most the travel clamp) and does not advance
+//! in the next frame. Gravity and ordinary bending pull with millinewtons, so
+//! this only acts on contradictory gestures, and it bounds the strain they can cause.
 //!
 //! **Crumple cap.** Without sheet–sheet contact (a later issue) the squeeze must stop before the
 //! sheet passes through itself; the seeds capped their crumpling for the same reason (no
 //! self-collision, point handles only: T 1245, T 2014, T 2076) and digest-tearing §4.3 caps
 //! the squeeze at 0.6. k = 0.6 leaves the ring of hands at 40 % of the sheet's size at c = 1.
 //!
+//! **Obstacles.** Targets are moved out of the table, wall and floor (the whole held patch);
+//! a hand that holds paper inside an obstacle comes out at its travel speed, never by a jump,
+//! and a moving obstacle (a table being raised) carries the hands along at its own speed.
+//!
 //! **Rate limits.** Gesture values are followed through slew-rate limits derived from the
 //! travel clamp (a value jump becomes a continuous sweep, so e.g. a twist jump rotates the
-//! hands along arcs instead of moving them through each other), then each handle pose is
+//! hands along arcs instead of moving them through each other), then each hand's pose is
 //! clamped again. Tear and pull gestures are stored but have no effect yet (tearing is a later
 //! issue).
 
@@ -53,62 +86,108 @@ use serde::{Deserialize, Serialize};
 
 use crate::collision::Obstacles;
 use crate::control::{GestureParam, GrabSlot};
-use crate::handles::{HandleDef, HandleState, MAX_NEIGHBOURS, Pose};
+use crate::handles::{HandDef, HandState, HandleDef, MAX_HAND_VERTICES, Pose};
 use crate::math::{Rot, V2, V3};
 use crate::sheet::Sheet;
 
-/// Slot handles: back 2, front 2, left 2, right 2, corners 4.
-pub const NUM_SLOT_HANDLES: usize = 12;
-/// Crumple handles: 4 corners + 4 edge midpoints.
-pub const NUM_CRUMPLE_HANDLES: usize = 8;
-/// All handles.
-pub const NUM_HANDLES: usize = NUM_SLOT_HANDLES + NUM_CRUMPLE_HANDLES;
+/// Slot hands: back, front, left, right, and the four corners.
+pub const NUM_SLOT_HANDS: usize = 8;
+/// Crumple hands: 4 corners + 4 edge midpoints.
+pub const NUM_CRUMPLE_HANDS: usize = 8;
+/// All hands.
+pub const NUM_HANDS: usize = NUM_SLOT_HANDS + NUM_CRUMPLE_HANDS;
 /// Crumple squeeze cap k: at c = 1 the hands are at (1 − k) of their home distance.
 pub const CRUMPLE_CAP: f64 = 0.6;
-/// Tilt of a crumple handle's frame at c = 1, radians.
+/// Tilt of a crumple hand's frame at c = 1, radians.
 pub const CRUMPLE_TILT_RAD: f64 = 0.6;
-/// Per-frame handle travel clamp as a fraction of L_paper, at the default frame rate (it is a
+/// Per-frame hand travel clamp as a fraction of L_paper, at the default frame rate (it is a
 /// speed: 4 L_paper/s; at other frame rates the per-frame clamp scales accordingly).
 pub const TRAVEL_CLAMP_FRAC: f64 = 0.02;
-/// Per-frame rotation clamp of a handle frame at the default frame rate, radians
+/// Per-frame rotation clamp of a hand frame at the default frame rate, radians
 /// (digest-tearing §4.3 (d)).
 pub const ROTATION_CLAMP_RAD: f64 = 0.05;
 /// Shake amplitude at depth 1, as a fraction of the sheet length.
 pub const SHAKE_AMPLITUDE_FRAC: f64 = 0.05;
+/// Fraction of the free-arc edge angle by which sliding hands tilt their held patch.
+pub const SLIDE_TILT_GAIN: f64 = 0.7;
+/// Largest force a finger holds at grip 0, N.
+pub const GRIP_FORCE_MIN_N: f64 = 1.0;
+/// Extra holding force of a finger at grip 1, N.
+pub const GRIP_FORCE_RANGE_N: f64 = 4.0;
+/// How far a hand gives way per newton of excess pull, m/N (a hand stiffness of 100 N/m).
+pub const HAND_COMPLIANCE_M_N: f64 = 0.01;
+/// Speed of the crumple hands, m/s (grip 0.5).
+const CRUMPLE_SPEED_M_S: f64 = 1.025;
 
-/// Grip speed of a slot handle for a grip (velocity) 0–1, m/s.
+/// Half-angle α of a circular arc whose chord is `1 − f` of its length (`sin α / α = 1 − f`,
+/// f ∈ [0, 0.9]): the angle at which a free sheet whose ends approach by a fraction f leaves
+/// its ends. Newton's method from the small-angle guess √(6f).
+pub fn arc_half_angle(f: f64) -> f64 {
+    let f = f.clamp(0.0, 0.9);
+    if f == 0.0 {
+        return 0.0;
+    }
+    let mut a = (6.0 * f).sqrt().min(3.0);
+    for _ in 0..30 {
+        let r = a.sin() / a - (1.0 - f);
+        let dr = (a * a.cos() - a.sin()) / (a * a);
+        if dr == 0.0 {
+            break;
+        }
+        let next = (a - r / dr).clamp(1e-9, std::f64::consts::PI);
+        if (next - a).abs() < 1e-14 {
+            a = next;
+            break;
+        }
+        a = next;
+    }
+    a
+}
+
+/// Largest force one finger moving at `speed_m_s` (its grip) holds, N.
+pub fn grip_force_n(speed_m_s: f64) -> f64 {
+    let grip = ((speed_m_s - 0.05) / 1.95).clamp(0.0, 1.0);
+    GRIP_FORCE_MIN_N + GRIP_FORCE_RANGE_N * grip
+}
+
+/// Grip speed of a slot hand for a grip (velocity) 0–1, m/s.
 pub fn grip_speed_m_s(grip: f32) -> f64 {
     0.05 + 1.95 * f64::from(grip.clamp(0.0, 1.0))
 }
 
-/// Speed of the crumple handles, m/s (grip 0.5).
-const CRUMPLE_SPEED_M_S: f64 = 1.025;
+/// What kind of hand, for the target pose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum HandKind {
+    /// Back or front edge pinch.
+    FrontBack,
+    /// Left or right edge pinch.
+    Side,
+    /// A corner.
+    Corner,
+    /// A crumple point.
+    Crumple,
+}
 
-/// Slot of each slot handle.
-const SLOT_OF: [GrabSlot; NUM_SLOT_HANDLES] = [
-    GrabSlot::Back,
+/// Geometry of one hand on the current sheet.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct HandInfo {
+    def: HandDef,
+    kind: HandKind,
+    /// Displacement of the reference point per unit of slide (pattern), metres.
+    slide: V2,
+}
+
+/// Slot of each slot hand.
+const SLOT_OF: [GrabSlot; NUM_SLOT_HANDS] = [
     GrabSlot::Back,
     GrabSlot::Front,
-    GrabSlot::Front,
     GrabSlot::Left,
-    GrabSlot::Left,
-    GrabSlot::Right,
     GrabSlot::Right,
     GrabSlot::Corners,
     GrabSlot::Corners,
     GrabSlot::Corners,
     GrabSlot::Corners,
 ];
-
-/// Geometry of one handle on the current sheet.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct HandleInfo {
-    def: HandleDef,
-    /// Home pattern position (of the handle vertex).
-    home: V2,
-    /// Displacement per unit of slide (pattern), metres.
-    slide: V2,
-}
 
 /// Serializable state of the rig (part of a saved sheet).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -119,14 +198,18 @@ pub struct RigState {
     pub smoothed: [f64; GestureParam::COUNT],
     /// Grip of each held slot, in [`GrabSlot::ALL`] order (`None` = not held).
     pub held: [Option<f32>; 5],
-    /// Handle states: 12 slot handles, then 8 crumple handles.
-    pub handles: [HandleState; NUM_HANDLES],
-    /// Crumple handles are active.
+    /// Hand states: 8 slot hands (back, front, left, right, 4 corners), then 8 crumple hands.
+    pub hands: [HandState; NUM_HANDS],
+    /// Crumple hands are active.
     pub crumple_active: bool,
-    /// Crumple jitter per crumple handle: (dx, dy) as fractions of L_paper, lift factor.
-    pub crumple_jitter: [[f64; 3]; NUM_CRUMPLE_HANDLES],
+    /// Crumple jitter per crumple hand: (dx, dy) as fractions of L_paper, lift factor.
+    pub crumple_jitter: [[f64; 3]; NUM_CRUMPLE_HANDS],
     /// Shake phase, radians.
     pub shake_phase_rad: f64,
+    /// Grab sequence number of each hand (earlier grabs keep contested vertices).
+    pub grab_seq: [u64; NUM_HANDS],
+    /// Next grab sequence number.
+    pub next_seq: u64,
 }
 
 impl Default for RigState {
@@ -141,27 +224,36 @@ impl Default for RigState {
             commanded,
             smoothed,
             held: [None; 5],
-            handles: [HandleState::default(); NUM_HANDLES],
+            hands: [HandState::default(); NUM_HANDS],
             crumple_active: false,
-            crumple_jitter: [[0.0, 0.0, 1.0]; NUM_CRUMPLE_HANDLES],
+            crumple_jitter: [[0.0, 0.0, 1.0]; NUM_CRUMPLE_HANDS],
             shake_phase_rad: 0.0,
+            grab_seq: [0; NUM_HANDS],
+            next_seq: 0,
         }
     }
 }
 
-/// The rig: handle geometry on the current sheet plus its state.
+/// The rig: hand geometry on the current sheet plus its state.
 #[derive(Clone, Debug)]
 pub struct GestureRig {
-    info: [HandleInfo; NUM_HANDLES],
-    /// The state (gestures, grabs, handle poses).
+    info: [HandInfo; NUM_HANDS],
+    /// The state (gestures, grabs, hand poses).
     pub state: RigState,
-    /// Suppressed slot handles (their vertex is held by a crumple handle).
-    suppressed: [bool; NUM_HANDLES],
-    /// Held vertices: (vertex, handle, neighbour index or `u8::MAX` for the handle vertex).
+    /// Suppressed slot hands (one of their handle vertices is held by a crumple hand).
+    suppressed: [bool; NUM_HANDS],
+    /// Held vertices: (vertex, hand, index of the vertex in the hand).
     ownership: Vec<(u32, u8, u8)>,
-    /// Per-vertex claim while computing the ownership (handle index or `u8::MAX`).
+    /// Per-vertex claim while computing the ownership (hand index or `u8::MAX`).
     claim: Vec<u8>,
+    /// The claims of the previous ownership (to detect vertices changing hands).
+    prev_claim: Vec<u8>,
     ownership_dirty: bool,
+    /// Vertex adjacency of the sheet (CSR offsets and neighbours), to keep hands apart.
+    adj_offsets: Vec<u32>,
+    adj: Vec<u32>,
+    /// Scratch: held neighbours to let go because they touch another hand's vertex.
+    drop: Vec<bool>,
     home_z_m: f64,
     width_m: f64,
     length_m: f64,
@@ -170,17 +262,22 @@ pub struct GestureRig {
 impl GestureRig {
     /// A rig for `sheet` whose home height is `home_z_m`.
     pub fn new(sheet: &Sheet, home_z_m: f64) -> Self {
+        let h0 = HandleDef::at_vertex(sheet, 0);
         let mut rig = Self {
-            info: [HandleInfo {
-                def: HandleDef::at_vertex(sheet, 0),
-                home: V2::zeros(),
+            info: [HandInfo {
+                def: HandDef::new(sheet, &[h0]),
+                kind: HandKind::Crumple,
                 slide: V2::zeros(),
-            }; NUM_HANDLES],
+            }; NUM_HANDS],
             state: RigState::default(),
-            suppressed: [false; NUM_HANDLES],
-            ownership: Vec::with_capacity(NUM_HANDLES * (1 + MAX_NEIGHBOURS)),
+            suppressed: [false; NUM_HANDS],
+            ownership: Vec::with_capacity(NUM_HANDS * MAX_HAND_VERTICES),
             claim: Vec::new(),
+            prev_claim: Vec::new(),
             ownership_dirty: true,
+            adj_offsets: Vec::new(),
+            adj: Vec::new(),
+            drop: Vec::new(),
             home_z_m,
             width_m: sheet.width_m,
             length_m: sheet.length_m,
@@ -189,25 +286,38 @@ impl GestureRig {
         rig
     }
 
-    /// Recomputes the handle geometry for a (new) sheet and re-anchors every active handle
-    /// where the sheet is. Allocates only if the sheet has more vertices than before.
+    /// Recomputes the hand geometry for a (new) sheet and re-anchors every active hand where
+    /// the sheet is. Allocates only if the sheet has more vertices than before.
     pub fn rebuild_geometry(&mut self, sheet: &Sheet, home_z_m: f64) {
         let (w, l) = (sheet.width_m, sheet.length_m);
         self.width_m = w;
         self.length_m = l;
         self.home_z_m = home_z_m;
         let (hw, hl) = (0.5 * w, 0.5 * l);
-        let mut pts: [(V2, V2); NUM_HANDLES] = [(V2::zeros(), V2::zeros()); NUM_HANDLES];
-        let s_back = V2::new(0.0, -l / 4.0);
-        let s_side = V2::new(w / 4.0, 0.0);
-        pts[0] = (V2::new(-hw + 0.25 * w, hl), s_back);
-        pts[1] = (V2::new(-hw + 0.75 * w, hl), s_back);
-        pts[2] = (V2::new(-hw + 0.25 * w, -hl), -s_back);
-        pts[3] = (V2::new(-hw + 0.75 * w, -hl), -s_back);
-        pts[4] = (V2::new(-hw, -hl + 0.25 * l), s_side);
-        pts[5] = (V2::new(-hw, -hl + 0.75 * l), s_side);
-        pts[6] = (V2::new(hw, -hl + 0.25 * l), -s_side);
-        pts[7] = (V2::new(hw, -hl + 0.75 * l), -s_side);
+        let at = |p: V2| HandleDef::at_vertex(sheet, sheet.nearest_vertex(p, true));
+        let pinch = |a: V2, b: V2| HandDef::new(sheet, &[at(a), at(b)]);
+        let fb = |y: f64| pinch(V2::new(-hw + 0.25 * w, y), V2::new(-hw + 0.75 * w, y));
+        let side = |x: f64| pinch(V2::new(x, -hl + 0.25 * l), V2::new(x, -hl + 0.75 * l));
+        self.info[0] = HandInfo {
+            def: fb(hl),
+            kind: HandKind::FrontBack,
+            slide: V2::new(0.0, -l / 4.0),
+        };
+        self.info[1] = HandInfo {
+            def: fb(-hl),
+            kind: HandKind::FrontBack,
+            slide: V2::new(0.0, l / 4.0),
+        };
+        self.info[2] = HandInfo {
+            def: side(-hw),
+            kind: HandKind::Side,
+            slide: V2::new(w / 4.0, 0.0),
+        };
+        self.info[3] = HandInfo {
+            def: side(hw),
+            kind: HandKind::Side,
+            slide: V2::new(-w / 4.0, 0.0),
+        };
         let corners = [
             V2::new(-hw, -hl),
             V2::new(hw, -hl),
@@ -215,8 +325,17 @@ impl GestureRig {
             V2::new(-hw, hl),
         ];
         for (k, c) in corners.iter().enumerate() {
-            pts[8 + k] = (*c, V2::new(-c.x.signum() * w / 4.0, -c.y.signum() * l / 4.0));
-            pts[12 + k] = (*c, V2::zeros());
+            self.info[4 + k] = HandInfo {
+                def: HandDef::new(sheet, &[at(*c)]),
+                kind: HandKind::Corner,
+                slide: V2::new(-c.x.signum() * w / 4.0, -c.y.signum() * l / 4.0),
+            };
+            let v = sheet.nearest_vertex(*c, true);
+            self.info[8 + k] = HandInfo {
+                def: HandDef::new(sheet, &[HandleDef::point(sheet, v)]),
+                kind: HandKind::Crumple,
+                slide: V2::zeros(),
+            };
         }
         let mids = [
             V2::new(0.0, -hl),
@@ -225,23 +344,30 @@ impl GestureRig {
             V2::new(-hw, 0.0),
         ];
         for (k, m) in mids.iter().enumerate() {
-            pts[16 + k] = (*m, V2::zeros());
-        }
-        for (k, (p, slide)) in pts.iter().enumerate() {
-            let v = sheet.nearest_vertex(*p, true);
-            self.info[k] = HandleInfo {
-                def: HandleDef::at_vertex(sheet, v),
-                home: sheet.sp.pattern[v as usize],
-                slide: *slide,
+            let v = sheet.nearest_vertex(*m, true);
+            self.info[12 + k] = HandInfo {
+                def: HandDef::new(sheet, &[HandleDef::point(sheet, v)]),
+                kind: HandKind::Crumple,
+                slide: V2::zeros(),
             };
         }
         if self.claim.len() != sheet.sp.num_vertices() {
             self.claim = vec![u8::MAX; sheet.sp.num_vertices()];
+            self.prev_claim = vec![u8::MAX; sheet.sp.num_vertices()];
         }
-        for k in 0..NUM_HANDLES {
-            if self.state.handles[k].active {
+        self.ownership.clear();
+        for c in &mut self.claim {
+            *c = u8::MAX;
+        }
+        self.adj_offsets
+            .clone_from(&sheet.sp.topo.adjacency_offsets);
+        self.adj.clone_from(&sheet.sp.topo.adjacency);
+        self.drop.clear();
+        self.drop.resize(NUM_HANDS * MAX_HAND_VERTICES, false);
+        for k in 0..NUM_HANDS {
+            if self.state.hands[k].active {
                 let def = self.info[k].def;
-                self.state.handles[k].reanchor(&def, &sheet.sp.pos);
+                self.state.hands[k].reanchor(&def, &sheet.sp.pos);
             }
         }
         self.ownership_dirty = true;
@@ -259,17 +385,25 @@ impl GestureRig {
 
     /// A hand takes hold of a slot (a second grab of a held slot only changes the grip).
     pub fn grab(&mut self, slot: GrabSlot, grip: f32, pos: &[V3]) {
-        let grip = if grip.is_finite() { grip.clamp(0.0, 1.0) } else { 0.5 };
+        let grip = if grip.is_finite() {
+            grip.clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
         let speed = grip_speed_m_s(grip);
         let was = self.state.held[slot.index()].is_some();
         self.state.held[slot.index()] = Some(grip);
-        for k in 0..NUM_SLOT_HANDLES {
-            if SLOT_OF[k] == slot {
+        if !was {
+            self.state.next_seq = self.state.next_seq.saturating_add(1);
+        }
+        for (k, &s) in SLOT_OF.iter().enumerate() {
+            if s == slot {
                 if was {
-                    self.state.handles[k].speed_m_s = speed;
+                    self.state.hands[k].speed_m_s = speed;
                 } else {
                     let def = self.info[k].def;
-                    self.state.handles[k] = HandleState::grab(&def, pos, speed);
+                    self.state.hands[k] = HandState::grab(&def, pos, speed);
+                    self.state.grab_seq[k] = self.state.next_seq;
                 }
             }
         }
@@ -279,15 +413,15 @@ impl GestureRig {
     /// The hand holding `slot` lets go.
     pub fn release(&mut self, slot: GrabSlot) {
         self.state.held[slot.index()] = None;
-        for k in 0..NUM_SLOT_HANDLES {
-            if SLOT_OF[k] == slot {
-                self.state.handles[k].active = false;
+        for (k, &s) in SLOT_OF.iter().enumerate() {
+            if s == slot {
+                self.state.hands[k].active = false;
             }
         }
         self.ownership_dirty = true;
     }
 
-    /// Every hand lets go (crumple handles stay while crumple > 0).
+    /// Every hand lets go (crumple hands stay while crumple > 0).
     pub fn release_all(&mut self) {
         for s in GrabSlot::ALL {
             self.release(s);
@@ -301,7 +435,7 @@ impl GestureRig {
 
     /// True if the rig will move something in the next frame.
     pub fn is_moving(&self) -> bool {
-        let any_active = self.state.handles.iter().any(|h| h.active);
+        let any_active = self.state.hands.iter().any(|h| h.active);
         let shaking = any_active && self.state.smoothed[GestureParam::ShakeDepth.index()] > 0.0;
         let settling = GestureParam::ALL
             .iter()
@@ -311,16 +445,23 @@ impl GestureRig {
         shaking || settling || crumple_pending || self.ownership_dirty
     }
 
-    /// Number of active handles (crumple handles included, suppressed ones excluded).
-    pub fn num_active_handles(&self) -> usize {
-        (0..NUM_HANDLES)
-            .filter(|&k| self.state.handles[k].active && !self.suppressed[k])
+    /// Number of active hands (crumple hands included, suppressed ones excluded).
+    pub fn num_active_hands(&self) -> usize {
+        (0..NUM_HANDS)
+            .filter(|&k| self.state.hands[k].active && !self.suppressed[k])
             .count()
     }
 
-    /// Advances the rig by one frame: gesture slew, crumple on/off, target poses, handle poses.
-    /// Returns true if any handle moved.
-    pub fn advance_frame(&mut self, dt_s: f64, frame_scale: f64, pos: &[V3], rng: &mut rand_pcg::Pcg32) -> bool {
+    /// Advances the rig by one frame: gesture slew, crumple on/off, target poses, hand poses.
+    /// Returns true if any hand moved.
+    pub fn advance_frame(
+        &mut self,
+        dt_s: f64,
+        frame_scale: f64,
+        pos: &[V3],
+        obstacles: &Obstacles,
+        rng: &mut rand_pcg::Pcg32,
+    ) -> bool {
         let l = self.l_paper();
         let clamp_m = TRAVEL_CLAMP_FRAC * l * frame_scale;
         let max_angle = ROTATION_CLAMP_RAD * frame_scale;
@@ -328,25 +469,26 @@ impl GestureRig {
         let crumple_smoothed = self.state.smoothed[GestureParam::Crumple.index()];
         let rate = self.state.smoothed[GestureParam::ShakeRateHz.index()];
 
-        // Crumple handles on/off.
+        // Crumple hands on/off.
         let c_cmd = self.state.commanded[GestureParam::Crumple.index()];
         if c_cmd > 0.0 && !self.state.crumple_active {
             self.state.crumple_active = true;
             use rand::RngExt;
-            for k in 0..NUM_CRUMPLE_HANDLES {
+            for k in 0..NUM_CRUMPLE_HANDS {
                 self.state.crumple_jitter[k] = [
                     rng.random_range(-0.03..0.03),
                     rng.random_range(-0.03..0.03),
                     rng.random_range(0.6..1.4),
                 ];
-                let def = self.info[NUM_SLOT_HANDLES + k].def;
-                self.state.handles[NUM_SLOT_HANDLES + k] = HandleState::grab(&def, pos, CRUMPLE_SPEED_M_S);
+                let def = self.info[NUM_SLOT_HANDS + k].def;
+                self.state.hands[NUM_SLOT_HANDS + k] =
+                    HandState::grab(&def, pos, CRUMPLE_SPEED_M_S);
             }
             self.ownership_dirty = true;
         } else if self.state.crumple_active && c_cmd <= 0.0 && crumple_smoothed <= 0.0 {
             self.state.crumple_active = false;
-            for k in NUM_SLOT_HANDLES..NUM_HANDLES {
-                self.state.handles[k].active = false;
+            for k in NUM_SLOT_HANDS..NUM_HANDS {
+                self.state.hands[k].active = false;
             }
             self.ownership_dirty = true;
         }
@@ -354,17 +496,17 @@ impl GestureRig {
             self.recompute_ownership(pos);
         }
 
-        // Shake phase.
-        self.state.shake_phase_rad = (self.state.shake_phase_rad + std::f64::consts::TAU * rate * dt_s)
+        self.state.shake_phase_rad = (self.state.shake_phase_rad
+            + std::f64::consts::TAU * rate * dt_s)
             .rem_euclid(std::f64::consts::TAU);
         let mut moved = false;
-        for k in 0..NUM_HANDLES {
-            if !self.state.handles[k].active || self.suppressed[k] {
+        for k in 0..NUM_HANDS {
+            if !self.state.hands[k].active || self.suppressed[k] {
                 continue;
             }
-            let target = self.target_pose(k);
-            let def = self.info[k].def;
-            moved |= self.state.handles[k].advance(&def, &target, dt_s, clamp_m, max_angle);
+            let target = self.pushed_out(k, self.target_pose(k), obstacles);
+            moved |= self.state.hands[k].advance(&target, dt_s, clamp_m, max_angle);
+            moved |= self.carried_by_obstacles(k, obstacles, dt_s);
         }
         moved
     }
@@ -386,123 +528,265 @@ impl GestureRig {
             };
             let cur = self.state.smoothed[i];
             let d = target - cur;
-            self.state.smoothed[i] = if d.abs() <= rate { target } else { cur + rate * d.signum() };
+            self.state.smoothed[i] = if d.abs() <= rate {
+                target
+            } else {
+                cur + rate * d.signum()
+            };
         }
     }
 
-    /// Target pose of handle `k` from the smoothed gestures.
+    /// Target pose of hand `k` from the smoothed gestures.
     fn target_pose(&self, k: usize) -> Pose {
         let g = |p: GestureParam| self.state.smoothed[p.index()];
         let info = &self.info[k];
+        let home = info.def.home_ref;
         let l = self.length_m;
         let lp = self.l_paper();
         let z0 = self.home_z_m;
-        let shake = g(GestureParam::ShakeDepth) * SHAKE_AMPLITUDE_FRAC * l * self.state.shake_phase_rad.sin();
-        if k >= NUM_SLOT_HANDLES {
-            let j = k - NUM_SLOT_HANDLES;
+        let shake = g(GestureParam::ShakeDepth)
+            * SHAKE_AMPLITUDE_FRAC
+            * l
+            * self.state.shake_phase_rad.sin();
+        if info.kind == HandKind::Crumple {
+            let j = k - NUM_SLOT_HANDS;
             let c = g(GestureParam::Crumple);
             let jit = self.state.crumple_jitter[j];
-            let p = info.home * (1.0 - c * CRUMPLE_CAP) + V2::new(jit[0], jit[1]) * (c * lp);
+            let p = home * (1.0 - c * CRUMPLE_CAP) + V2::new(jit[0], jit[1]) * (c * lp);
             let lift = c * 0.1 * l * jit[2];
-            let inward = -info.home.normalize();
+            let inward = -home.normalize();
             let axis = V3::new(inward.x, inward.y, 0.0).cross(&V3::z());
             let rot = nalgebra::Unit::try_new(axis, 1e-12)
                 .map(|a| Rot::from_axis_angle(&a, c * CRUMPLE_TILT_RAD))
                 .unwrap_or_else(Rot::identity);
             return Pose::new(V3::new(p.x, p.y, z0 + lift + shake), rot);
         }
-        let p = info.home + info.slide * g(GestureParam::Slide);
-        let front = info.home.y < 0.0;
+        let slide = g(GestureParam::Slide);
+        let p = home + info.slide * slide;
         let mut pos = V3::new(p.x, p.y, z0 + shake);
+        // Tilt the held patch with the slide (inner side up), so the approaching edges bow
+        // the sheet upwards instead of compressing it flat.
         let mut rot = Rot::identity();
-        if front {
-            pos.z += g(GestureParam::Lift) * 0.5 * l;
+        if slide > 0.0 {
+            let u = info.slide.normalize();
+            let axis = V3::new(u.x, u.y, 0.0).cross(&V3::z());
+            if let Some(a) = nalgebra::Unit::try_new(axis, 1e-12) {
+                rot = Rot::from_axis_angle(&a, SLIDE_TILT_GAIN * arc_half_angle(0.5 * slide));
+            }
+        }
+        let lift = g(GestureParam::Lift);
+        if info.kind == HandKind::Side {
+            // Pivot about the back finger (x-parallel axis) until the front finger has risen
+            // by lift·L/2 (or stands straight above the back finger).
+            if lift > 0.0 {
+                let d = &info.def;
+                let (o0, o1) = (d.home_offsets[0], d.home_offsets[1]);
+                let (front_o, back_o) = if o0.y < o1.y { (o0, o1) } else { (o1, o0) };
+                let span = (back_o - front_o).norm();
+                let theta = (lift * 0.5 * l / span).clamp(0.0, 1.0).asin();
+                let r = Rot::from_axis_angle(&-V3::x_axis(), theta);
+                let back = pos + rot * back_o;
+                pos = back + r * (pos - back);
+                rot = r * rot;
+            }
+        } else if home.y < 0.0 {
+            pos.z += lift * 0.5 * l;
             let phi = g(GestureParam::Twist) * std::f64::consts::PI;
             if phi != 0.0 {
                 // Rotation about −y by φ raises the +x side.
                 let r = Rot::from_axis_angle(&-V3::y_axis(), phi);
                 let axis_pt = V3::new(0.0, pos.y, pos.z);
                 pos = axis_pt + r * (pos - axis_pt);
-                rot = r;
+                rot = r * rot;
             }
         }
         Pose::new(pos, rot)
     }
 
+    /// Moves a target pose out of the obstacles: the held patch (as grabbed) at that pose is
+    /// shifted along each plane's normal until none of its vertices is inside. The hand then
+    /// travels there at its own speed, so a patch grabbed inside an obstacle (or overtaken by
+    /// a moving table) comes out gradually instead of jumping.
+    fn pushed_out(&self, k: usize, target: Pose, obstacles: &Obstacles) -> Pose {
+        let h = &self.state.hands[k];
+        let r = target.rotation();
+        let mut p = target.pos();
+        for pl in obstacles.planes.iter() {
+            if !pl.active {
+                continue;
+            }
+            let mut push: f64 = 0.0;
+            for j in 0..self.info[k].def.num_vertices as usize {
+                if h.holds(j) {
+                    push = push.max(-pl.distance(&(p + r * V3::from(h.offsets_m[j]))));
+                }
+            }
+            if push > 0.0 {
+                p += pl.normal * push;
+            }
+        }
+        Pose::new(p, r)
+    }
+
+    /// Recomputes which hand holds which vertex. A neighbour vertex that changes hands (its
+    /// previous holder let go, or a new hand took it) is taken where it is now: its offset in
+    /// the new holder is refitted to its current position, so it never jumps to a stale offset.
+    /// A plane moving into a held patch (a table being raised) pushes the hand along its
+    /// normal, by at most the plane's own motion this frame. Returns true if it did.
+    fn carried_by_obstacles(&mut self, k: usize, obstacles: &Obstacles, dt_s: f64) -> bool {
+        let mut moved = false;
+        for pl in obstacles.planes.iter() {
+            if !pl.active || pl.speed_m_s <= 0.0 {
+                continue;
+            }
+            let h = &self.state.hands[k];
+            let r = h.pose.rotation();
+            let p = h.pose.pos();
+            let mut pen: f64 = 0.0;
+            for j in 0..self.info[k].def.num_vertices as usize {
+                if h.holds(j) {
+                    pen = pen.max(-pl.distance(&(p + r * V3::from(h.offsets_m[j]))));
+                }
+            }
+            let push = pen.min(pl.speed_m_s * dt_s);
+            if push > 0.0 {
+                let h = &mut self.state.hands[k];
+                h.pose = Pose::new(p + pl.normal * push, r);
+                moved = true;
+            }
+        }
+        moved
+    }
+
     fn recompute_ownership(&mut self, pos: &[V3]) {
         self.ownership.clear();
+        self.prev_claim.copy_from_slice(&self.claim);
         for c in &mut self.claim {
             *c = u8::MAX;
         }
         let was_suppressed = self.suppressed;
-        self.suppressed = [false; NUM_HANDLES];
-        let order = |crumple: bool| {
-            if crumple {
-                NUM_SLOT_HANDLES..NUM_HANDLES
-            } else {
-                0..NUM_SLOT_HANDLES
-            }
-        };
-        for crumple in [true, false] {
+        self.suppressed = [false; NUM_HANDS];
+        // Crumple hands first (fixed order), then slot hands by grab order (earlier grabs
+        // keep contested vertices), ties in slot order.
+        let mut order = [0usize; NUM_HANDS];
+        for (i, o) in order.iter_mut().enumerate() {
+            *o = i;
+        }
+        let seq = self.state.grab_seq;
+        order[..NUM_SLOT_HANDS].sort_unstable_by_key(|&k| (seq[k], k));
+        let groups = [&order[NUM_SLOT_HANDS..], &order[..NUM_SLOT_HANDS]];
+        for group in groups {
             // Handle vertices first, then neighbours.
-            for k in order(crumple) {
-                if !self.state.handles[k].active {
+            for &k in group {
+                if !self.state.hands[k].active {
                     continue;
                 }
-                let v = self.info[k].def.vertex as usize;
-                if self.claim[v] != u8::MAX {
+                let def = &self.info[k].def;
+                let nm = def.num_mains as usize;
+                if def.vertices[..nm]
+                    .iter()
+                    .any(|&v| self.claim[v as usize] != u8::MAX)
+                {
                     self.suppressed[k] = true;
                     continue;
                 }
-                self.claim[v] = k as u8;
-                self.ownership.push((v as u32, k as u8, u8::MAX));
+                for (j, &v) in def.vertices[..nm].iter().enumerate() {
+                    self.claim[v as usize] = k as u8;
+                    self.ownership.push((v, k as u8, j as u8));
+                }
             }
-            for k in order(crumple) {
-                if !self.state.handles[k].active || self.suppressed[k] {
+            for &k in group {
+                if !self.state.hands[k].active || self.suppressed[k] {
                     continue;
                 }
                 let def = self.info[k].def;
-                for (j, &n) in def.neighbours().iter().enumerate() {
-                    if self.claim[n as usize] == u8::MAX {
-                        self.claim[n as usize] = k as u8;
-                        self.ownership.push((n, k as u8, j as u8));
+                for j in def.num_mains as usize..def.num_vertices as usize {
+                    let v = def.vertices[j];
+                    if self.state.hands[k].holds(j) && self.claim[v as usize] == u8::MAX {
+                        self.claim[v as usize] = k as u8;
+                        self.ownership.push((v, k as u8, j as u8));
                     }
                 }
             }
         }
-        // A handle that gets its vertices back starts again from where the sheet is.
-        for k in 0..NUM_HANDLES {
-            if was_suppressed[k] && !self.suppressed[k] && self.state.handles[k].active {
+        // Hands do not touch: a held neighbour next to a vertex of another hand is let go (two
+        // rigid grips joined by one short edge would fight over it; the free vertex between
+        // them lets the paper fold instead).
+        for (i, &(v, k, j)) in self.ownership.iter().enumerate() {
+            let neighbour = (j as usize) >= self.info[k as usize].def.num_mains as usize;
+            let (a, b) = (
+                self.adj_offsets[v as usize] as usize,
+                self.adj_offsets[v as usize + 1] as usize,
+            );
+            self.drop[i] = neighbour
+                && self.adj[a..b].iter().any(|&u| {
+                    let c = self.claim[u as usize];
+                    c != u8::MAX && c != k
+                });
+        }
+        let mut i = 0;
+        self.ownership.retain(|&(v, _, _)| {
+            let keep = !self.drop[i];
+            if !keep {
+                self.claim[v as usize] = u8::MAX;
+            }
+            i += 1;
+            keep
+        });
+        // A hand that gets its vertices back starts again from where the sheet is.
+        for (k, &was) in was_suppressed.iter().enumerate() {
+            if was && !self.suppressed[k] && self.state.hands[k].active {
                 let def = self.info[k].def;
-                self.state.handles[k].reanchor(&def, pos);
+                self.state.hands[k].reanchor(&def, pos);
+            }
+        }
+        for &(v, k, j) in &self.ownership {
+            if self.prev_claim[v as usize] != k {
+                let h = &mut self.state.hands[k as usize];
+                let o = h.pose.rotation().inverse() * (pos[v as usize] - h.pose.pos());
+                h.offsets_m[j as usize] = [o.x, o.y, o.z];
             }
         }
         self.ownership_dirty = false;
     }
 
     /// Writes the kinematic constraints at fraction `s` ∈ [0, 1] of the current frame:
-    /// `fixed[v]` for held vertices and their positions in `target` (pushed out of the
-    /// obstacles).
-    pub fn fill_kinematics(&self, s: f64, fixed: &mut [bool], target: &mut [V3], obstacles: &Obstacles) {
+    /// `fixed[v]` for held vertices and their positions in `target`.
+    pub fn fill_kinematics(&self, s: f64, fixed: &mut [bool], target: &mut [V3]) {
         for f in fixed.iter_mut() {
             *f = false;
         }
         for &(v, k, j) in &self.ownership {
-            let h = &self.state.handles[k as usize];
-            let pp = h.prev_pose.pos().lerp(&h.pose.pos(), s);
-            let mut p = if j == u8::MAX {
-                pp
-            } else {
-                let j = j as usize;
-                let r = h.prev_pose.rotation().slerp(&h.pose.rotation(), s);
-                let a = V3::from(h.prev_offsets_m[j]);
-                let b = V3::from(h.offsets_m[j]);
-                pp + r * a.lerp(&b, s)
-            };
-            obstacles.push_out(&mut p, 0.0);
             fixed[v as usize] = true;
-            target[v as usize] = p;
+            target[v as usize] = self.state.hands[k as usize].held_position(j as usize, s);
         }
+    }
+
+    /// Lets hands give way where the sheet pulls harder than their grip (see the module doc).
+    /// `forces` are the elastic forces on the vertices; returns true if any hand slipped.
+    pub fn apply_slip(&mut self, forces: &[V3], frame_scale: f64) -> bool {
+        let clamp_m = TRAVEL_CLAMP_FRAC * self.l_paper() * frame_scale;
+        let mut f = [V3::zeros(); NUM_HANDS];
+        for &(v, k, _) in &self.ownership {
+            f[k as usize] += forces[v as usize];
+        }
+        let mut any = false;
+        for (k, fk) in f.iter().enumerate() {
+            let h = &mut self.state.hands[k];
+            if !h.active || self.suppressed[k] {
+                continue;
+            }
+            let n = fk.norm();
+            let fmax = grip_force_n(h.speed_m_s) * f64::from(self.info[k].def.num_mains);
+            if n > fmax && n.is_finite() {
+                let d = ((n - fmax) * HAND_COMPLIANCE_M_N).min(clamp_m);
+                let p = h.pose.pos() + fk * (d / n);
+                h.pose = Pose::new(p, h.pose.rotation());
+                h.slipping = true;
+                any = true;
+            }
+        }
+        any
     }
 
     /// Vertices currently held (for tags and stats).
@@ -510,31 +794,52 @@ impl GestureRig {
         self.ownership.iter().map(|o| o.0)
     }
 
-    /// True if vertex `v` is a handle vertex (not a neighbour) of an active handle.
-    pub fn is_handle_vertex(&self, v: u32) -> bool {
-        self.ownership.iter().any(|o| o.0 == v && o.2 == u8::MAX)
+    /// The ownership (vertex, hand, index in the hand), the suppression flags and whether the
+    /// ownership is pending recomputation (saved with the sheet for exact continuation).
+    pub fn ownership_state(&self) -> (Vec<(u32, u8, u8)>, [bool; NUM_HANDS], bool) {
+        (
+            self.ownership.clone(),
+            self.suppressed,
+            self.ownership_dirty,
+        )
     }
 
-    /// The suppression flags and whether the ownership is pending recomputation (saved with
-    /// the sheet for exact continuation).
-    pub fn ownership_flags(&self) -> ([bool; NUM_HANDLES], bool) {
-        (self.suppressed, self.ownership_dirty)
-    }
-
-    /// Restores the flags of [`Self::ownership_flags`] after `state` was restored. The
-    /// ownership itself is a function of the state and the flags, recomputed here (without
-    /// re-anchoring any handle) unless it was pending.
-    pub fn restore_ownership(&mut self, suppressed: [bool; NUM_HANDLES], dirty: bool, pos: &[V3]) {
-        self.suppressed = suppressed;
-        if dirty {
-            self.ownership_dirty = true;
-        } else {
-            self.recompute_ownership(pos);
+    /// Restores [`Self::ownership_state`] after `state` was restored. Returns an error message
+    /// if an entry does not fit the current hands and mesh.
+    pub fn restore_ownership(
+        &mut self,
+        ownership: &[(u32, u8, u8)],
+        suppressed: [bool; NUM_HANDS],
+        dirty: bool,
+    ) -> Result<(), String> {
+        if ownership.len() > NUM_HANDS * MAX_HAND_VERTICES {
+            return Err("too many held vertices".into());
         }
+        self.ownership.clear();
+        for c in &mut self.claim {
+            *c = u8::MAX;
+        }
+        for &(v, k, j) in ownership {
+            let ok = (v as usize) < self.claim.len()
+                && (k as usize) < NUM_HANDS
+                && (j as usize) < self.info[k as usize].def.num_vertices as usize
+                && self.info[k as usize].def.vertices[j as usize] == v
+                && self.claim[v as usize] == u8::MAX;
+            if !ok {
+                return Err(format!(
+                    "held vertex entry ({v}, {k}, {j}) does not fit the sheet"
+                ));
+            }
+            self.claim[v as usize] = k;
+            self.ownership.push((v, k, j));
+        }
+        self.suppressed = suppressed;
+        self.ownership_dirty = dirty;
+        Ok(())
     }
 
-    /// The handle definition of handle `k` (tests and diagnostics).
-    pub fn handle_def(&self, k: usize) -> &HandleDef {
+    /// The definition of hand `k` (tests and diagnostics).
+    pub fn hand_def(&self, k: usize) -> &HandDef {
         &self.info[k].def
     }
 }
@@ -550,13 +855,31 @@ mod tests {
     fn setup() -> (Sheet, GestureRig, Obstacles, rand_pcg::Pcg32) {
         let sheet = Sheet::new_flat(SheetSize::A4, MeshConfig::default(), 0.75, 0.1);
         let rig = GestureRig::new(&sheet, 0.75);
-        (sheet, rig, Obstacles::new(&RoomConfig::default()), rand_pcg::Pcg32::seed_from_u64(1))
+        (
+            sheet,
+            rig,
+            Obstacles::new(&RoomConfig::default()),
+            rand_pcg::Pcg32::seed_from_u64(1),
+        )
     }
 
-    fn run(rig: &mut GestureRig, sheet: &Sheet, rng: &mut rand_pcg::Pcg32, frames: usize) {
+    fn run(
+        rig: &mut GestureRig,
+        sheet: &Sheet,
+        obs: &Obstacles,
+        rng: &mut rand_pcg::Pcg32,
+        frames: usize,
+    ) {
         for _ in 0..frames {
-            rig.advance_frame(0.005, 1.0, &sheet.sp.pos, rng);
+            rig.advance_frame(0.005, 1.0, &sheet.sp.pos, obs, rng);
         }
+    }
+
+    fn targets(rig: &GestureRig, sheet: &Sheet) -> (Vec<bool>, Vec<V3>) {
+        let n = sheet.sp.num_vertices();
+        let (mut fixed, mut target) = (vec![false; n], vec![V3::zeros(); n]);
+        rig.fill_kinematics(1.0, &mut fixed, &mut target);
+        (fixed, target)
     }
 
     #[test]
@@ -565,16 +888,16 @@ mod tests {
         rig.grab(GrabSlot::Back, 1.0, &sheet.sp.pos);
         rig.grab(GrabSlot::Front, 1.0, &sheet.sp.pos);
         rig.set_gesture(GestureParam::Slide, 1.0);
-        run(&mut rig, &sheet, &mut rng, 200);
-        let n = sheet.sp.num_vertices();
-        let (mut fixed, mut target) = (vec![false; n], vec![V3::zeros(); n]);
-        rig.fill_kinematics(1.0, &mut fixed, &mut target, &obs);
-        let back = rig.info[0].def.vertex as usize;
-        let front = rig.info[2].def.vertex as usize;
-        let gap = target[back].y - target[front].y;
+        run(&mut rig, &sheet, &obs, &mut rng, 200);
+        let (fixed, target) = targets(&rig, &sheet);
+        let back = rig.info[0].def.vertices[0] as usize;
+        let front = rig.info[1].def.vertices[0] as usize;
         let l = sheet.length_m;
-        // Home gap L, each edge moved L/4 inwards.
+        // Home gap L, each edge moved L/4 inwards (the pinches also tilt, so compare the
+        // reference points of the hands).
+        let gap = rig.state.hands[0].pose.pos().y - rig.state.hands[1].pose.pos().y;
         assert!((gap - 0.5 * l).abs() < 1e-9, "gap {gap}");
+        assert!(target[back].y - target[front].y < 0.6 * l);
         assert!(fixed.iter().filter(|&&f| f).count() >= 4 * 4);
     }
 
@@ -584,14 +907,12 @@ mod tests {
         rig.grab(GrabSlot::Corners, 1.0, &sheet.sp.pos);
         rig.set_gesture(GestureParam::Lift, 0.5);
         rig.set_gesture(GestureParam::Twist, 0.25);
-        run(&mut rig, &sheet, &mut rng, 300);
-        let n = sheet.sp.num_vertices();
-        let (mut fixed, mut target) = (vec![false; n], vec![V3::zeros(); n]);
-        rig.fill_kinematics(1.0, &mut fixed, &mut target, &obs);
+        run(&mut rig, &sheet, &obs, &mut rng, 300);
+        let (_, target) = targets(&rig, &sheet);
         let l = sheet.length_m;
-        let fl = rig.info[8].def.vertex as usize; // front-left
-        let fr = rig.info[9].def.vertex as usize; // front-right
-        let br = rig.info[10].def.vertex as usize;
+        let fl = rig.info[4].def.vertices[0] as usize; // front-left
+        let fr = rig.info[5].def.vertices[0] as usize; // front-right
+        let br = rig.info[6].def.vertices[0] as usize;
         assert!((target[br].z - 0.75).abs() < 1e-9, "back corner stays");
         // Front corners rotated by π/4 about the axis at height 0.75 + L/4: right side up.
         let zc = 0.75 + 0.25 * l;
@@ -602,39 +923,82 @@ mod tests {
     }
 
     #[test]
+    fn side_hands_pivot_rigidly_with_lift() {
+        // No table: the part of the patch behind the back finger dips as the hand pivots, and
+        // a table would push the whole hand up.
+        let (sheet, mut rig, _, mut rng) = setup();
+        let obs = Obstacles::new(&RoomConfig {
+            table: false,
+            ..RoomConfig::default()
+        });
+        rig.grab(GrabSlot::Left, 1.0, &sheet.sp.pos);
+        rig.set_gesture(GestureParam::Lift, 0.5);
+        run(&mut rig, &sheet, &obs, &mut rng, 300);
+        let (_, target) = targets(&rig, &sheet);
+        let d = &rig.info[2].def;
+        let (front, back) = (d.vertices[0] as usize, d.vertices[1] as usize);
+        let l = sheet.length_m;
+        assert!(sheet.sp.pattern[front].y < sheet.sp.pattern[back].y);
+        assert!(
+            (target[front].z - (0.75 + 0.25 * l)).abs() < 1e-9,
+            "front finger up by L/4: {}",
+            target[front].z
+        );
+        assert!((target[back].z - 0.75).abs() < 1e-9, "back finger stays");
+        // Rigid: the fingers keep their pattern distance.
+        let dp = (sheet.sp.pattern[front] - sheet.sp.pattern[back]).norm();
+        assert!(((target[front] - target[back]).norm() - dp).abs() < 1e-9);
+    }
+
+    #[test]
     fn crumple_takes_precedence_and_releases() {
         let (sheet, mut rig, obs, mut rng) = setup();
         rig.grab(GrabSlot::Corners, 1.0, &sheet.sp.pos);
         rig.set_gesture(GestureParam::Crumple, 1.0);
-        run(&mut rig, &sheet, &mut rng, 5);
+        run(&mut rig, &sheet, &obs, &mut rng, 5);
         assert!(rig.state.crumple_active);
-        for k in 8..12 {
-            assert!(rig.suppressed[k], "corner slot handle {k} suppressed");
+        for k in 4..8 {
+            assert!(rig.suppressed[k], "corner hand {k} suppressed");
         }
-        assert_eq!(rig.num_active_handles(), 8);
-        run(&mut rig, &sheet, &mut rng, 400);
-        let n = sheet.sp.num_vertices();
-        let (mut fixed, mut target) = (vec![false; n], vec![V3::zeros(); n]);
-        rig.fill_kinematics(1.0, &mut fixed, &mut target, &obs);
-        let c0 = rig.info[12].def.vertex as usize;
+        assert_eq!(rig.num_active_hands(), 8);
+        run(&mut rig, &sheet, &obs, &mut rng, 400);
+        let (_, target) = targets(&rig, &sheet);
+        let c0 = rig.info[8].def.vertices[0] as usize;
         let r = V2::new(target[c0].x, target[c0].y).norm();
         let r0 = sheet.sp.pattern[c0].norm();
-        assert!(r < 0.5 * r0, "corner squeezed towards the centre: {r} vs {r0}");
+        assert!(
+            r < 0.5 * r0,
+            "corner squeezed towards the centre: {r} vs {r0}"
+        );
         rig.set_gesture(GestureParam::Crumple, 0.0);
-        run(&mut rig, &sheet, &mut rng, 400);
+        run(&mut rig, &sheet, &obs, &mut rng, 400);
         assert!(!rig.state.crumple_active);
-        assert_eq!(rig.num_active_handles(), 4, "corner slot handles back");
+        assert_eq!(rig.num_active_hands(), 4, "corner hands back");
         assert!(!rig.is_moving());
     }
 
     #[test]
+    fn arc_half_angle_solves_the_chord_equation() {
+        assert_eq!(arc_half_angle(0.0), 0.0);
+        for f in [0.01, 0.1, 0.5, 0.8] {
+            let a = arc_half_angle(f);
+            assert!((a.sin() / a - (1.0 - f)).abs() < 1e-10, "{f}");
+        }
+    }
+
+    #[test]
     fn jumps_are_rate_limited() {
-        let (sheet, mut rig, _obs, mut rng) = setup();
+        let (sheet, mut rig, obs, mut rng) = setup();
         rig.grab(GrabSlot::Front, 1.0, &sheet.sp.pos);
         rig.set_gesture(GestureParam::Twist, 1.0);
-        rig.advance_frame(0.005, 1.0, &sheet.sp.pos, &mut rng);
-        assert!(rig.state.smoothed[GestureParam::Twist.index()] <= ROTATION_CLAMP_RAD / std::f64::consts::PI + 1e-12);
-        let h = &rig.state.handles[2];
-        assert!((h.pose.pos() - h.prev_pose.pos()).norm() <= TRAVEL_CLAMP_FRAC * sheet.length_m + 1e-12);
+        rig.advance_frame(0.005, 1.0, &sheet.sp.pos, &obs, &mut rng);
+        assert!(
+            rig.state.smoothed[GestureParam::Twist.index()]
+                <= ROTATION_CLAMP_RAD / std::f64::consts::PI + 1e-12
+        );
+        let h = &rig.state.hands[1];
+        assert!(
+            (h.pose.pos() - h.prev_pose.pos()).norm() <= TRAVEL_CLAMP_FRAC * sheet.length_m + 1e-12
+        );
     }
 }

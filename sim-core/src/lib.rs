@@ -20,7 +20,12 @@
 //!
 //! Inputs are described by [`control::Command`]; scripted inputs (automation lanes and grabs)
 //! by [`script::Script`], played by [`script_runner::ScriptRunner`]; the seed scenarios are in
-//! [`scenario`].
+//! [`scenario`] (played and summarized by [`scenario_run`]). [`stress`] drives the sim with
+//! hostile random commands (tests and the `sim-stress` binary); `benches/step.rs` and
+//! `cargo xtask bench-report` measure it.
+//!
+//! Entry point: [`sim::Sim`] — `Sim::new(SimConfig)`, `apply(Command)`, `step(&mut FrameOutput)`,
+//! `contacts()`, `metrics()`, `write_mesh`, `save` / `restore`.
 
 #![warn(missing_docs)]
 
@@ -35,11 +40,13 @@ pub mod metrics;
 pub mod physics;
 pub mod room;
 pub mod scenario;
+pub mod scenario_run;
 pub mod script;
 pub mod script_runner;
 pub mod sheet;
 pub mod sim;
 pub mod sound_input;
+pub mod stress;
 
 pub use collision::VertexContact;
 pub use control::{Command, GestureParam, GrabSlot, Material, SheetSize};

@@ -85,7 +85,12 @@ mod tests {
 
     #[test]
     fn sym2_eigen_matches_definition() {
-        for &(a, b, c) in &[(2.0, 0.5, 1.0), (1.0, 0.0, 3.0), (3.0, 0.0, 1.0), (1.0, -2.0, 1.0)] {
+        for &(a, b, c) in &[
+            (2.0, 0.5, 1.0),
+            (1.0, 0.0, 3.0),
+            (3.0, 0.0, 1.0),
+            (1.0, -2.0, 1.0),
+        ] {
             let (lo, hi, v) = sym2_eigen(a, b, c);
             let m = M2::new(a, b, b, c);
             assert!(((m * v) - v * lo).norm() < 1e-12);

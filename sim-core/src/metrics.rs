@@ -82,7 +82,10 @@ impl MetricsTracker {
     /// Takes the current normals as the reference (after a reset or restore).
     pub fn reset_normals(&mut self, mesh: &PhysMesh) {
         for (t, n) in self.prev_normal.iter_mut().enumerate() {
-            *n = mesh.tri_normal(t).try_normalize(0.0).unwrap_or_else(V3::zeros);
+            *n = mesh
+                .tri_normal(t)
+                .try_normalize(0.0)
+                .unwrap_or_else(V3::zeros);
         }
     }
 
@@ -118,12 +121,20 @@ impl MetricsTracker {
             let x = tri.map(|i| mesh.pos[i as usize]);
             let (g, _) = green_strain(x, &mesh.tri_rest[t]);
             // C = 2G + I; principal stretches λ = √eig(C).
-            let (lo, hi, _) = sym2_eigen(2.0 * g[(0, 0)] + 1.0, 2.0 * g[(0, 1)], 2.0 * g[(1, 1)] + 1.0);
-            let s = (lo.max(0.0).sqrt() - 1.0).abs().max((hi.max(0.0).sqrt() - 1.0).abs());
-            m.max_strain = m.max_strain.max(if s.is_finite() { s } else { f64::INFINITY });
+            let (lo, hi, _) = sym2_eigen(
+                2.0 * g[(0, 0)] + 1.0,
+                2.0 * g[(0, 1)],
+                2.0 * g[(1, 1)] + 1.0,
+            );
+            let s = (lo.max(0.0).sqrt() - 1.0)
+                .abs()
+                .max((hi.max(0.0).sqrt() - 1.0).abs());
+            m.max_strain = m
+                .max_strain
+                .max(if s.is_finite() { s } else { f64::INFINITY });
             let n = (x[1] - x[0]).cross(&(x[2] - x[0]));
             let area = 0.5 * n.norm();
-            if !(area >= 0.01 * mesh.tri_rest[t].area_m2) {
+            if area.is_nan() || area < 0.01 * mesh.tri_rest[t].area_m2 {
                 m.num_degenerate += 1;
             }
             let nu = n.try_normalize(0.0).unwrap_or_else(V3::zeros);

@@ -74,7 +74,11 @@ impl RoomConfig {
         };
         Self {
             table: self.table,
-            table_height_cm: clamp(self.table_height_cm, TABLE_HEIGHT_RANGE_CM, d.table_height_cm),
+            table_height_cm: clamp(
+                self.table_height_cm,
+                TABLE_HEIGHT_RANGE_CM,
+                d.table_height_cm,
+            ),
             wall: self.wall,
             wall_dist_cm: clamp(self.wall_dist_cm, WALL_DIST_RANGE_CM, d.wall_dist_cm),
         }
@@ -123,7 +127,11 @@ impl RoomConfig {
     /// front edge, +90 = right) and a distance (metres) from the sheet's home centre.
     pub fn listener_position_m(&self, azimuth_deg: f64, distance_m: f64) -> [f64; 3] {
         let az = azimuth_deg.to_radians();
-        let d = if distance_m.is_finite() { distance_m.max(0.05) } else { 1.0 };
+        let d = if distance_m.is_finite() {
+            distance_m.max(0.05)
+        } else {
+            1.0
+        };
         let h = self.home_height_m() + EAR_HEIGHT_ABOVE_TABLE_M;
         [d * az.sin(), -d * az.cos(), h]
     }

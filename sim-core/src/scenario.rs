@@ -91,7 +91,10 @@ mod tests {
             let s = get(name).unwrap_or_else(|e| panic!("{e}"));
             validate(&s).unwrap_or_else(|e| panic!("{name}: {e}"));
             assert!(s.duration_s > 0.5 && s.duration_s <= 10.0, "{name}");
-            assert!(title(name).is_some_and(|t| t.len() > 10), "{name} has a title line");
+            assert!(
+                title(name).is_some_and(|t| t.len() > 10),
+                "{name} has a title line"
+            );
             let r = ScriptRunner::new(&s, 200.0, crate::room::RoomConfig::default()).unwrap();
             assert!(r.num_frames() >= 100);
         }

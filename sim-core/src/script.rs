@@ -345,7 +345,11 @@ impl Script {
             if l.interp != Interp::Step && !numbers {
                 return Err(ScriptError::Invalid(format!(
                     "{what}: only numeric lanes can use interp = \"{}\"; use \"step\"",
-                    if l.interp == Interp::Linear { "linear" } else { "smooth" }
+                    if l.interp == Interp::Linear {
+                        "linear"
+                    } else {
+                        "smooth"
+                    }
                 )));
             }
             last_t = last_t.max(prev);
@@ -512,12 +516,18 @@ at_s = 0.5
             ("\u{0}\u{1}garbage", "TOML"),
             ("version = 2", "version"),
             ("[set]\nx = 1", "version"),
-            ("version = 1\n[[lane]]\nid = \"a\"\npoints = []", "no points"),
+            (
+                "version = 1\n[[lane]]\nid = \"a\"\npoints = []",
+                "no points",
+            ),
             (
                 "version = 1\n[[lane]]\nid = \"a\"\npoints = [[1, 0], [0, 1]]",
                 "decrease",
             ),
-            ("version = 1\n[[lane]]\nid = \"a\"\npoints = [[-1, 0]]", "time"),
+            (
+                "version = 1\n[[lane]]\nid = \"a\"\npoints = [[-1, 0]]",
+                "time",
+            ),
             (
                 "version = 1\n[[lane]]\nid = \"a\"\npoints = [[0, \"x\"]]",
                 "step",

@@ -22,7 +22,7 @@ use thiserror::Error;
 use crate::control::{Command, GestureParam, Material, SheetSize};
 use crate::room::RoomConfig;
 use crate::script::{DiscreteInput, Lane, Script, ScriptValue};
-use crate::sim::{Sim, SimConfig, FrameOutput};
+use crate::sim::{FrameOutput, Sim, SimConfig};
 
 /// Ids that are valid script parameters but not simulation inputs (the plugin's listener,
 /// mix and output parameters).
@@ -103,7 +103,12 @@ pub enum RunnerError {
     },
 }
 
-fn check_value(target: ParamTarget, id: &str, v: &ScriptValue, place: &str) -> Result<(), RunnerError> {
+fn check_value(
+    target: ParamTarget,
+    id: &str,
+    v: &ScriptValue,
+    place: &str,
+) -> Result<(), RunnerError> {
     let bad = |expected: &'static str| RunnerError::BadValue {
         id: id.to_string(),
         value: v.to_string(),
@@ -111,11 +116,20 @@ fn check_value(target: ParamTarget, id: &str, v: &ScriptValue, place: &str) -> R
         place: place.to_string(),
     };
     match target {
-        ParamTarget::Gesture(_) | ParamTarget::TableHeight | ParamTarget::WallDist | ParamTarget::NotSim => {
-            v.as_f64().filter(|x| x.is_finite()).map(|_| ()).ok_or_else(|| bad("a number"))
-        }
+        ParamTarget::Gesture(_)
+        | ParamTarget::TableHeight
+        | ParamTarget::WallDist
+        | ParamTarget::NotSim => v
+            .as_f64()
+            .filter(|x| x.is_finite())
+            .map(|_| ())
+            .ok_or_else(|| bad("a number")),
         ParamTarget::Seed => match v {
-            ScriptValue::Number(x) if x.is_finite() && *x >= 0.0 && x.fract() == 0.0 && *x < 2f64.powi(53) => Ok(()),
+            ScriptValue::Number(x)
+                if x.is_finite() && *x >= 0.0 && x.fract() == 0.0 && *x < 2f64.powi(53) =>
+            {
+                Ok(())
+            }
             _ => Err(bad("a non-negative integer")),
         },
         ParamTarget::Table | ParamTarget::Wall => match v {
@@ -175,7 +189,9 @@ fn command_for(target: ParamTarget, v: &ScriptValue) -> Option<Command> {
             value: *x as f32,
         }),
         (ParamTarget::Size, ScriptValue::Text(s)) => SheetSize::from_id(s).map(Command::Size),
-        (ParamTarget::Material, ScriptValue::Text(s)) => Material::from_id(s).map(Command::Material),
+        (ParamTarget::Material, ScriptValue::Text(s)) => {
+            Material::from_id(s).map(Command::Material)
+        }
         (ParamTarget::Seed, ScriptValue::Number(x)) => Some(Command::Seed(*x as u64)),
         _ => None,
     }
@@ -200,7 +216,11 @@ pub struct ScriptRunner {
 impl ScriptRunner {
     /// A runner for `script` at `frame_rate_hz`, starting from the room `base_room` (overridden
     /// by the script's `[set]` room values).
-    pub fn new(script: &Script, frame_rate_hz: f64, base_room: RoomConfig) -> Result<Self, RunnerError> {
+    pub fn new(
+        script: &Script,
+        frame_rate_hz: f64,
+        base_room: RoomConfig,
+    ) -> Result<Self, RunnerError> {
         validate(script)?;
         let frame_rate_hz = if frame_rate_hz.is_finite() && frame_rate_hz >= 1.0 {
             frame_rate_hz
@@ -209,7 +229,8 @@ impl ScriptRunner {
         };
         let mut room = base_room.sanitized();
         let mut set_values = Vec::new();
-        let (mut seed, mut material, mut size, mut gestures) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut seed, mut material, mut size, mut gestures) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for (id, v) in &script.set {
             let t = ParamTarget::of(id).expect("validated");
             set_values.push((t, v.clone()));
@@ -240,7 +261,14 @@ impl ScriptRunner {
         // A lane whose first value equals the `[set]` value does not resend it.
         let last = lanes
             .iter()
-            .map(|(l, _)| script.set.iter().rev().find(|(k, _)| *k == l.id).map(|(_, v)| v.clone()))
+            .map(|(l, _)| {
+                script
+                    .set
+                    .iter()
+                    .rev()
+                    .find(|(k, _)| *k == l.id)
+                    .map(|(_, v)| v.clone())
+            })
             .collect();
         Ok(Self {
             frame_rate_hz,
@@ -304,7 +332,9 @@ impl ScriptRunner {
         let k = self.frame as f64;
         let t_end = (k + 1.0) / self.frame_rate_hz;
         let t = k / self.frame_rate_hz;
-        while self.next_discrete < self.discrete.len() && self.discrete[self.next_discrete].0 < t_end {
+        while self.next_discrete < self.discrete.len()
+            && self.discrete[self.next_discrete].0 < t_end
+        {
             out.push(match &self.discrete[self.next_discrete].1 {
                 DiscreteInput::Reset => Command::Reset,
                 DiscreteInput::Grab { slot, velocity } => Command::Grab {
@@ -423,36 +453,71 @@ at_s = 0.004
         // at the [set] value, so it is not resent; the wall lane starts (false = no change of
         // the room, but it is the first value) → one Room command.
         assert_eq!(frames[0][0], Command::Reset);
-        assert!(matches!(frames[0][1], Command::Grab { slot: GrabSlot::Front, .. }));
-        assert!(frames[0].iter().all(|c| !matches!(c, Command::Gesture { .. })));
+        assert!(matches!(
+            frames[0][1],
+            Command::Grab {
+                slot: GrabSlot::Front,
+                ..
+            }
+        ));
+        assert!(
+            frames[0]
+                .iter()
+                .all(|c| !matches!(c, Command::Gesture { .. }))
+        );
         // Frame 2 (t = 10 ms): the wall lane is still false at 10 ms; frame 3 (15 ms): true.
-        assert!(frames[2].iter().all(|c| !matches!(c, Command::Room(r) if r.wall)));
-        assert!(frames[3].iter().any(|c| matches!(c, Command::Room(r) if r.wall)));
+        assert!(
+            frames[2]
+                .iter()
+                .all(|c| !matches!(c, Command::Room(r) if r.wall))
+        );
+        assert!(
+            frames[3]
+                .iter()
+                .any(|c| matches!(c, Command::Room(r) if r.wall))
+        );
         // Frame 4 (20 ms): slide steps to 0.5.
         assert!(frames[4].contains(&Command::Gesture {
             param: GestureParam::Slide,
             value: 0.5
         }));
         // Release at 31 ms → frame 6 ([30, 35) ms).
-        assert!(frames[6].contains(&Command::Release { slot: GrabSlot::Front }));
+        assert!(frames[6].contains(&Command::Release {
+            slot: GrabSlot::Front
+        }));
         // Listener lane never produces commands.
-        assert!(frames.iter().flatten().all(|c| !matches!(c, Command::Gesture { param: GestureParam::Twist, .. })));
+        assert!(frames.iter().flatten().all(|c| !matches!(
+            c,
+            Command::Gesture {
+                param: GestureParam::Twist,
+                ..
+            }
+        )));
     }
 
     #[test]
     fn unknown_ids_and_bad_values_are_errors() {
         let bad_id = Script::parse("version = 1\n[set]\nwobble = 1\n").unwrap();
         let e = validate(&bad_id).unwrap_err();
-        assert!(e.to_string().contains("wobble") && e.to_string().contains("[set]"), "{e}");
-        let bad_lane = Script::parse("version = 1\n[[lane]]\nid = \"crumple_amount\"\npoints = [[0, 1]]\n").unwrap();
-        assert!(matches!(validate(&bad_lane), Err(RunnerError::UnknownParam { .. })));
+        assert!(
+            e.to_string().contains("wobble") && e.to_string().contains("[set]"),
+            "{e}"
+        );
+        let bad_lane =
+            Script::parse("version = 1\n[[lane]]\nid = \"crumple_amount\"\npoints = [[0, 1]]\n")
+                .unwrap();
+        assert!(matches!(
+            validate(&bad_lane),
+            Err(RunnerError::UnknownParam { .. })
+        ));
         let bad_size = Script::parse("version = 1\n[set]\nsize = \"a3\"\n").unwrap();
         assert!(validate(&bad_size).unwrap_err().to_string().contains("a4"));
         let bad_seed = Script::parse("version = 1\n[set]\nseed = 1.5\n").unwrap();
         assert!(validate(&bad_seed).is_err());
         let bad_table = Script::parse("version = 1\n[set]\ntable = 1\n").unwrap();
         assert!(validate(&bad_table).is_err());
-        let ok = Script::parse("version = 1\n[set]\nmix_tear_db = -3\nlistener_dist_m = 2\n").unwrap();
+        let ok =
+            Script::parse("version = 1\n[set]\nmix_tear_db = -3\nlistener_dist_m = 2\n").unwrap();
         validate(&ok).unwrap();
     }
 }

@@ -44,9 +44,7 @@ pub use saved::{RestoreError, SAVED_SHEET_VERSION, SavedSheet};
 
 use rand::SeedableRng;
 
-use crate::collision::{
-    CONTACT_SKIN_M, Obstacles, TOUCH_DIST_M, VertexContact, penalty_stiffness,
-};
+use crate::collision::{CONTACT_SKIN_M, Obstacles, TOUCH_DIST_M, VertexContact, penalty_stiffness};
 use crate::control::{Command, GestureParam, Material, SheetSize};
 use crate::gesture_rig::GestureRig;
 use crate::material::PaperMaterial;
@@ -150,6 +148,8 @@ pub struct FrameStats {
     pub iterations: u32,
     /// Substeps whose state had to be recovered (non-finite); 0 in a healthy run.
     pub recoveries: u32,
+    /// Newton line-search halvings summed over the frame's substeps.
+    pub halvings: u32,
 }
 
 /// What one frame produces.
@@ -175,6 +175,7 @@ pub struct Sim {
     rng: rand_pcg::Pcg32,
     fixed: Vec<bool>,
     kin_target: Vec<V3>,
+    forces: Vec<V3>,
     contacts: Vec<VertexContact>,
     metrics: MetricsTracker,
     last_metrics: Metrics,
@@ -190,9 +191,14 @@ impl Sim {
     pub fn new(cfg: SimConfig) -> Self {
         let cfg = cfg.sanitized();
         let material = PaperMaterial::of(cfg.material);
-        let sheet = Sheet::new_flat(cfg.size, cfg.mesh, cfg.room.home_height_m(), material.areal_density_kg_m2);
+        let sheet = Sheet::new_flat(
+            cfg.size,
+            cfg.mesh,
+            cfg.room.home_height_m(),
+            material.areal_density_kg_m2,
+        );
         let mut sim = Self::with_sheet(cfg, sheet);
-        sim.asleep = cfg.room.table;
+        sim.asleep = cfg.room.table && !sim.obstacles.is_moving();
         sim
     }
 
@@ -200,7 +206,9 @@ impl Sim {
         let material = PaperMaterial::of(cfg.material);
         let params = PhysParams::new(&material, &cfg.solver);
         let n = sheet.sp.num_vertices();
-        let obstacles = Obstacles::new(&cfg.room);
+        let mut obstacles = Obstacles::new(&cfg.room);
+        // A wall closer than the sheet's half length starts behind the new sheet and eases in.
+        obstacles.fit_outside(&sheet.sp.pos);
         let rig = GestureRig::new(&sheet, cfg.room.home_height_m());
         let metrics = MetricsTracker::new(&sheet.sp);
         let mut sim = Self {
@@ -212,6 +220,7 @@ impl Sim {
             rng: rand_pcg::Pcg32::seed_from_u64(cfg.seed),
             fixed: vec![false; n],
             kin_target: vec![V3::zeros(); n],
+            forces: vec![V3::zeros(); n],
             contacts: vec![VertexContact::default(); n],
             metrics,
             last_metrics: Metrics::default(),
@@ -309,9 +318,7 @@ impl Sim {
         );
         let frames_simulated = self.frames_simulated;
         let substeps = self.physics.substeps_done;
-        let obstacles = self.obstacles;
         *self = Self::with_sheet(self.cfg, sheet);
-        self.obstacles = obstacles;
         self.frames_simulated = frames_simulated;
         self.physics.substeps_done = substeps;
         // Gestures and held slots survive; held handles re-anchor on the new sheet.
@@ -321,11 +328,14 @@ impl Sim {
         self.rig.state.shake_phase_rad = held.shake_phase_rad;
         self.rig.state.crumple_jitter = held.crumple_jitter;
         self.rig.state.crumple_active = held.crumple_active;
-        for k in 0..held.handles.len() {
-            self.rig.state.handles[k].active = held.handles[k].active;
-            self.rig.state.handles[k].speed_m_s = held.handles[k].speed_m_s;
+        self.rig.state.grab_seq = held.grab_seq;
+        self.rig.state.next_seq = held.next_seq;
+        for k in 0..held.hands.len() {
+            self.rig.state.hands[k].active = held.hands[k].active;
+            self.rig.state.hands[k].speed_m_s = held.hands[k].speed_m_s;
         }
-        self.rig.rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
+        self.rig
+            .rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
         self.wake();
     }
 
@@ -368,7 +378,9 @@ impl Sim {
                     self.cfg.material = m;
                     self.material = PaperMaterial::of(m);
                     self.params = PhysParams::new(&self.material, &self.cfg.solver);
-                    self.sheet.sp.set_areal_density(self.material.areal_density_kg_m2);
+                    self.sheet
+                        .sp
+                        .set_areal_density(self.material.areal_density_kg_m2);
                     self.wake();
                 }
             }
@@ -388,7 +400,7 @@ impl Sim {
     /// Steps one frame.
     pub fn step(&mut self, out: &mut FrameOutput) {
         out.sound.clear();
-        self.frame += 1;
+        self.frame = self.frame.saturating_add(1);
         out.sound.frame = self.frame;
         out.sound.time_s = self.time_s();
         if self.asleep {
@@ -399,16 +411,20 @@ impl Sim {
         let dt = 1.0 / self.cfg.frame_rate_hz;
         let frame_scale = DEFAULT_FRAME_RATE_HZ / self.cfg.frame_rate_hz;
         let planes_moved = self.obstacles.ease(dt);
-        let handles_moved = self
-            .rig
-            .advance_frame(dt, frame_scale, &self.sheet.sp.pos, &mut self.rng);
+        let handles_moved = self.rig.advance_frame(
+            dt,
+            frame_scale,
+            &self.sheet.sp.pos,
+            &self.obstacles,
+            &mut self.rng,
+        );
         let n_sub = self.cfg.solver.substeps;
         let h = dt / f64::from(n_sub);
-        let (mut iterations, mut recoveries) = (0u32, 0u32);
+        let (mut iterations, mut recoveries, mut halvings) = (0u32, 0u32, 0u32);
         for s in 1..=n_sub {
             let frac = f64::from(s) / f64::from(n_sub);
             self.rig
-                .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target, &self.obstacles);
+                .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
             let r = self.physics.substep(
                 &mut self.sheet.sp,
                 Kinematics {
@@ -421,18 +437,29 @@ impl Sim {
                 h,
             );
             iterations += r.iterations;
+            halvings += r.halvings;
             recoveries += u32::from(r.recovered);
         }
         self.sheet.sg.pull_positions(&self.sheet.sp);
+        let mut slipped = false;
+        if self.rig.num_active_hands() > 0 {
+            crate::physics::elastic_forces(&self.sheet.sp, &self.params, &mut self.forces);
+            slipped = self.rig.apply_slip(&self.forces, frame_scale);
+        }
         self.update_contacts();
         self.last_metrics = self.metrics.compute(&self.sheet.sp);
 
         let quiet = !handles_moved
+            && !slipped
             && !planes_moved
             && !self.rig.is_moving()
             && !self.obstacles.is_moving()
             && self.last_metrics.max_speed_m_s < SLEEP_SPEED_M_S;
-        self.quiet_frames = if quiet { self.quiet_frames + 1 } else { 0 };
+        self.quiet_frames = if quiet {
+            self.quiet_frames.saturating_add(1)
+        } else {
+            0
+        };
         if self.quiet_frames >= SLEEP_FRAMES {
             self.asleep = true;
             for v in &mut self.sheet.sp.vel {
@@ -442,6 +469,7 @@ impl Sim {
             self.last_metrics = self.metrics.compute(&self.sheet.sp);
         }
         out.stats = self.stats(false, n_sub, iterations, recoveries);
+        out.stats.halvings = halvings;
     }
 
     fn update_contacts(&mut self) {
@@ -487,6 +515,7 @@ impl Sim {
             substeps,
             iterations,
             recoveries,
+            halvings: 0,
         }
     }
 
@@ -495,7 +524,10 @@ impl Sim {
     /// geometry layer's enrichment (×2).
     pub fn mesh_capacity(&self) -> (usize, usize) {
         let (v, t) = self.mesh_capacity;
-        (v.max(self.sheet.sp.num_vertices()), t.max(self.sheet.sp.num_triangles()))
+        (
+            v.max(self.sheet.sp.num_vertices()),
+            t.max(self.sheet.sp.num_triangles()),
+        )
     }
 
     /// Copies the mesh out (no allocation when `out` has the capacity).
@@ -520,7 +552,7 @@ impl Sim {
     /// The sheet as saved in a project.
     pub fn save(&self) -> SavedSheet {
         let sp = &self.sheet.sp;
-        let (suppressed, pending) = self.rig.ownership_flags();
+        let (ownership, suppressed, pending) = self.rig.ownership_state();
         SavedSheet {
             version: SAVED_SHEET_VERSION,
             size: self.cfg.size,
@@ -536,6 +568,7 @@ impl Sim {
             singular_vertices: sp.singular.clone(),
             rng: self.rng.clone(),
             rig: self.rig.state.clone(),
+            rig_ownership: ownership,
             rig_suppressed: suppressed,
             rig_ownership_pending: pending,
             obstacle_offsets_m: self.obstacles.planes.map(|p| p.offset_m),
@@ -555,11 +588,20 @@ impl Sim {
         cfg.seed = saved.seed;
         let material = PaperMaterial::of(cfg.material);
         let pattern = Pattern {
-            points: saved.pattern_m.iter().map(|p| V2::new(p[0], p[1])).collect(),
+            points: saved
+                .pattern_m
+                .iter()
+                .map(|p| V2::new(p[0], p[1]))
+                .collect(),
             triangles: saved.triangles.clone(),
         };
-        let sheet = Sheet::from_pattern(cfg.size, &pattern, cfg.room.home_height_m(), material.areal_density_kg_m2)
-            .map_err(|e| RestoreError::BadMesh(e.to_string()))?;
+        let sheet = Sheet::from_pattern(
+            cfg.size,
+            &pattern,
+            cfg.room.home_height_m(),
+            material.areal_density_kg_m2,
+        )
+        .map_err(|e| RestoreError::BadMesh(e.to_string()))?;
         let ne = sheet.sp.num_edges();
         if saved.edge_rest_angle_rad.len() != ne || saved.edge_damage.len() != ne {
             return Err(RestoreError::Invalid(format!(
@@ -577,7 +619,8 @@ impl Sim {
             for (i, v) in saved.velocities_m_s.iter().enumerate() {
                 sp.vel[i] = V3::new(v[0], v[1], v[2]);
             }
-            sp.edge_rest_angle.copy_from_slice(&saved.edge_rest_angle_rad);
+            sp.edge_rest_angle
+                .copy_from_slice(&saved.edge_rest_angle_rad);
             sp.edge_damage.copy_from_slice(&saved.edge_damage);
             sp.singular.clone_from(&saved.singular_vertices);
         }
@@ -598,7 +641,12 @@ impl Sim {
         sim.obstacles.set_room(&room, &sim.sheet.sp.pos);
         sim.rig.state = saved.rig.clone();
         sim.rig
-            .restore_ownership(saved.rig_suppressed, saved.rig_ownership_pending, &sim.sheet.sp.pos);
+            .restore_ownership(
+                &saved.rig_ownership,
+                saved.rig_suppressed,
+                saved.rig_ownership_pending,
+            )
+            .map_err(RestoreError::Invalid)?;
         sim.metrics.reset_normals(&sim.sheet.sp);
         sim.update_contacts();
         sim.last_metrics = sim.metrics.compute(&sim.sheet.sp);
@@ -646,7 +694,36 @@ mod tests {
         assert!(zmax > 0.75 + 0.1, "front edge lifted: {zmax}");
         assert_eq!(out.stats.num_flipped, 0);
         assert_eq!(out.stats.recoveries, 0);
-        assert!(m.tags.iter().any(|t| *t == VertexTag::Handle));
+        assert!(m.tags.contains(&VertexTag::Handle));
+    }
+
+    #[test]
+    fn contradictory_hands_slip_instead_of_tearing() {
+        // Back and front held firmly, front lifted by L/2 without sliding: the hands would
+        // have to stretch the sheet by 12 % on average (much more next to the pinches); they
+        // give way instead.
+        let mut sim = Sim::new(SimConfig::default());
+        for slot in [GrabSlot::Back, GrabSlot::Front] {
+            sim.apply(Command::Grab { slot, grip: 1.0 });
+        }
+        sim.apply(Command::Gesture {
+            param: GestureParam::Lift,
+            value: 1.0,
+        });
+        let mut out = FrameOutput::default();
+        let mut worst: f64 = 0.0;
+        for _ in 0..400 {
+            sim.step(&mut out);
+            worst = worst.max(sim.metrics().max_strain);
+        }
+        assert!(worst < 0.1, "strain {worst}");
+        // The front hand gave way: its pinch did not reach the lift target (L/2 up, 12 % of
+        // stretch away) but stopped where the sheet holds it.
+        let front = sim.rig().state.hands[1].pose.pos();
+        let target_z = 0.75 + 0.5 * 0.297;
+        assert!(front.z < target_z - 0.01, "hand at {} vs target {target_z}", front.z);
+        let zmax = sim.sheet().sp.pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        assert!(zmax > 0.8, "the front still went up: {zmax}");
     }
 
     #[test]
@@ -669,7 +746,13 @@ mod tests {
             frames += 1;
         }
         assert!(sim.is_asleep(), "asleep after {frames} frames");
-        let zmax = sim.sheet().sp.pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        let zmax = sim
+            .sheet()
+            .sp
+            .pos
+            .iter()
+            .map(|p| p.z)
+            .fold(f64::MIN, f64::max);
         assert!(zmax < 0.02, "on the floor: {zmax}");
         assert!(sim.contacts().iter().filter(|c| c.in_contact).count() > 10);
         assert!(

@@ -49,7 +49,7 @@ pub fn friction_frame_len(sample_rate_hz: f64) -> usize {
     let target = (rate * 2048.0 / 44_100.0).clamp(256.0, 16_384.0);
     let smooth = |mut n: usize| {
         for p in [2, 3, 5, 7] {
-            while n % p == 0 {
+            while n.is_multiple_of(p) {
                 n /= p;
             }
         }

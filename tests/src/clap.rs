@@ -200,6 +200,23 @@ impl Instance {
         out
     }
 
+    /// Formats a parameter value as the host shows it (`clap_plugin_params.value_to_text`).
+    pub fn value_to_text(&mut self, id: ClapId, value: f64) -> Option<String> {
+        let h = self.inst.plugin_handle();
+        let ext = h.get_extension::<PluginParams>()?;
+        let mut buf = [0u8; 256];
+        let text = ext.value_to_text(&h, id, value, &mut buf).ok()?;
+        Some(String::from_utf8_lossy(text).into_owned())
+    }
+
+    /// Parses a text a user typed (`clap_plugin_params.text_to_value`).
+    pub fn text_to_value(&mut self, id: ClapId, text: &str) -> Option<f64> {
+        let h = self.inst.plugin_handle();
+        let ext = h.get_extension::<PluginParams>()?;
+        let c = std::ffi::CString::new(text).ok()?;
+        ext.text_to_value(&h, id, &c)
+    }
+
     /// The CLAP id of a parameter by display name.
     pub fn param(&self, name: &str) -> ClapId {
         self.params

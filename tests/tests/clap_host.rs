@@ -18,16 +18,22 @@ fn bundle() -> Bundle {
 /// Compares two saved states without printing kilobytes of bytes.
 fn assert_same_state(a: &[u8], b: &[u8], what: &str) {
     if a != b {
+        let dir = paths::scratch(&format!("state_diff_{}", what.replace(' ', "_")));
+        let _ = std::fs::write(dir.join("a.bin"), a);
+        let _ = std::fs::write(dir.join("b.bin"), b);
+        // Skip the 8-byte length prefix to show where the JSON differs.
         let pos = a
             .iter()
             .zip(b)
+            .skip(8)
             .position(|(x, y)| x != y)
-            .unwrap_or(a.len().min(b.len()));
+            .map_or(a.len().min(b.len()), |p| p + 8);
         let lo = pos.saturating_sub(60);
         panic!(
-            "{what}: states differ at byte {pos} (lengths {} and {}):\n  {}\n  {}",
+            "{what}: states differ at byte {pos} (lengths {} and {}; both in {}):\n  {}\n  {}",
             a.len(),
             b.len(),
+            dir.display(),
             String::from_utf8_lossy(&a[lo..(pos + 60).min(a.len())]),
             String::from_utf8_lossy(&b[lo..(pos + 60).min(b.len())]),
         );
@@ -154,6 +160,50 @@ fn processes_at_44k_and_96k_with_every_maximum_block_size() {
     }
 }
 
+#[test]
+fn extreme_and_fractional_sample_rates_stay_finite() {
+    let _serial = serial();
+    let b = bundle();
+    // clap-validator processes at 8 kHz to 768 kHz, fractional rates included.
+    for sr in [8_000.0, 22_050.5, 44_100.25, 192_000.0, 384_000.0, 768_000.0] {
+        for offline in [false, true] {
+            let mut inst = instance(&b);
+            inst.set_offline(offline).unwrap();
+            let events = phrase(&inst, sr);
+            let (l, r) = inst
+                .render(sr, 2027, &[2027, 17, 1, 256], (0.3 * sr) as u64, &events)
+                .unwrap_or_else(|e| panic!("{sr} Hz: {e}"));
+            assert!(all_finite_normal(&l) && all_finite_normal(&r), "{sr} Hz offline {offline}");
+        }
+    }
+}
+
+#[test]
+fn parameter_values_round_trip_through_text() {
+    let _serial = serial();
+    let b = bundle();
+    let mut inst = instance(&b);
+    let params = inst.params.clone();
+    for p in &params {
+        for t in [0.0, 0.25, 0.5, 0.77, 1.0] {
+            let v = p.min + t * (p.max - p.min);
+            let v = if p.max - p.min >= 1.0 && p.max.fract() == 0.0 && p.min.fract() == 0.0 {
+                v.round()
+            } else {
+                v
+            };
+            let text = inst
+                .value_to_text(p.id, v)
+                .unwrap_or_else(|| panic!("{}: no text for {v}", p.name));
+            let back = inst
+                .text_to_value(p.id, &text)
+                .unwrap_or_else(|| panic!("{}: {text:?} does not parse back", p.name));
+            let again = inst.value_to_text(p.id, back).unwrap();
+            assert_eq!(again, text, "{}: {v} -> {text:?} -> {back} -> {again:?}", p.name);
+        }
+    }
+}
+
 fn split_state(bytes: &[u8]) -> serde_json::Value {
     assert!(bytes.len() > 8, "state too short");
     let n = u64::from_le_bytes(bytes[..8].try_into().unwrap()) as usize;
@@ -199,7 +249,9 @@ fn saved_state_reloads_and_resaves_byte_identically() {
         id: crumple_level,
         value: 0.25,
     });
-    a.render(sr, 512, &[], (1.0 * sr) as u64, &events).unwrap();
+    // Long enough for the released sheet to come to rest (a sheet in motion keeps moving after
+    // reopening, as it should).
+    a.render(sr, 512, &[], (6.0 * sr) as u64, &events).unwrap();
     let s1 = a.save_state().unwrap();
     let v1 = split_state(&s1);
     assert_eq!(v1["params"]["size"], serde_json::json!({"string": "a5"}));

@@ -44,10 +44,12 @@ fn the_checker_counts_allocations() {
 
 fn engine(mode: SimMode, sample_rate: f64) -> Engine {
     let params = ParamValues::default();
+    let mut sim = Sim::new(papier::sim_config(&params));
+    papier::engine::sync_fresh_sim(&mut sim, &params);
     Engine::new(
         mode,
         sample_rate,
-        Sim::new(papier::sim_config(&params)),
+        sim,
         &params,
         Arc::new(SoundDb::empty()),
         Arc::new(SheetStore::default()),

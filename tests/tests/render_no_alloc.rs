@@ -98,6 +98,16 @@ mod counting {
             // Returned databases are kept (capacity reserved: pushing does not allocate) and dropped
             // after the gate closes, as the plugin drops them off the audio thread.
             let mut returned: Vec<Arc<SoundDb>> = Vec::with_capacity(4);
+            let mut before_reset = *r.counters();
+            // 24 distinct events (different places, sizes): they cannot merge, so the pool fills.
+            let extra: Vec<_> = (0..24)
+                .map(|k| {
+                    let mut res = resonator([2.5, 10.0, 30.0][k % 3], [0.0, 10.0, 40.0][k % 3]);
+                    res.centre_m[0] = -0.3 + 0.025 * k as f32;
+                    res.centre_m[1] = 0.1 * (k % 2) as f32;
+                    crumple(0.5 + 0.02 * k as f32, res)
+                })
+                .collect();
             let ((), n) = count(|| {
                 r.set_scene(scene);
                 r.set_mix(MixLevels {
@@ -113,7 +123,7 @@ mod counting {
                         r.trigger(e);
                     }
                     // Many triggers: fill the pool and steal.
-                    for e in steps[(i + 7) % steps.len()].events.iter().cycle().take(24) {
+                    for e in &extra {
                         r.trigger(e);
                     }
                     let block = [1usize, 64, 333, 1024, 16_384][i % 5];
@@ -123,6 +133,7 @@ mod counting {
                         returned.push(r.swap_db(wrong_rate.clone()));
                     }
                     if i == 90 {
+                        before_reset = *r.counters();
                         r.reset();
                         r.set_options(RenderOptions::reference());
                     }
@@ -130,8 +141,10 @@ mod counting {
             });
             assert_eq!(n, 0, "{rate} Hz: {n} allocator calls on the render path");
             assert!(r.counters().samples > 0);
-            assert!(r.counters().voices_stolen > 0, "{:?}", r.counters());
-            assert!(r.counters().friction_ffts > 0);
+            assert!(before_reset.voices_stolen > 0, "{before_reset:?}");
+            assert!(before_reset.friction_ffts > 0 && before_reset.tear_samples > 0);
+            assert_eq!(before_reset.db_swaps, 1);
+            assert_eq!(before_reset.db_swaps_rejected, 1);
             assert!(Arc::ptr_eq(&returned[0], &db));
             assert!(Arc::ptr_eq(&returned[1], &wrong_rate));
         }

@@ -51,6 +51,8 @@ pub struct RenderCounters {
     pub friction_samples_silent: u64,
     /// Per-bin comb evaluations (entries × ears × bins; 0 without reflectors: §11.1).
     pub friction_comb_bins: u64,
+    /// Comb magnitudes reused from the geometry cache (§11.6).
+    pub friction_comb_cache_hits: u64,
     /// Friction sources folded into an existing entry of the same cell and place (§11.4).
     pub friction_sources_merged: u64,
     /// Friction sources dropped because the entry table was full.

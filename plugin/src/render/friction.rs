@@ -26,7 +26,10 @@
 //! - **Amplitude** of a source: its slip speed relative to the recording speed (10 cm/s, T 1909;
 //!   S 153: linear in the relative speed) — folded into the prepared spectra.
 //! - **Spatialization**: |H(ω)| of eq. 4.12 per source and per ear ([`super::dipole`]); without
-//!   reflectors H is the scalar |g0| and no per-bin work is done (§11.1).
+//!   reflectors H is the scalar |g0| and no per-bin work is done (§11.1). With reflectors, |H| is
+//!   computed at unit strength and cached per (ear, place): a source that has not moved by more
+//!   than 1 mm / turned by more than 0.01 since, in an unchanged scene, reuses it (§11.6; the
+//!   approximation is that tolerance). [`CACHE_SLOTS`] slots, least recently used replaced.
 //! - **Stereo**: one magnitude sum per ear, **the same random phases** for both ears (the channels
 //!   stay correlated as one source heard twice), two inverse FFTs per hop.
 //! - **Timing and interpolation**: frame j starts at sample j·hop (absolute, since `reset`) and
@@ -94,6 +97,97 @@ fn same_place(a: &Resonator, b: &Resonator) -> bool {
     d2 <= 0.005 * 0.005 && n2 <= 0.05 * 0.05 && r
 }
 
+/// Cached |H(ω)| of one source position for one ear (digest-sound §11.6: recompute the spatial
+/// terms only when the source moves by more than 1 mm or turns by more than 0.01, or the scene
+/// changes).
+#[derive(Clone, Copy, Debug, Default)]
+struct CombSlot {
+    valid: bool,
+    ear: u8,
+    scene_version: u64,
+    centre_m: [f32; 3],
+    normal: [f32; 3],
+    last_used: u64,
+}
+
+/// Fixed-size store of cached comb magnitudes ([`CACHE_SLOTS`] slots × bins).
+struct CombCache {
+    slots: Vec<CombSlot>,
+    data: Vec<f32>,
+}
+
+/// Slots of the comb cache (both ears).
+pub const CACHE_SLOTS: usize = 2 * MAX_ENTRIES;
+/// Position tolerance of the comb cache, m.
+pub const CACHE_TOLERANCE_M: f32 = 0.001;
+/// Normal tolerance of the comb cache.
+pub const CACHE_TOLERANCE_NORMAL: f32 = 0.01;
+
+impl CombCache {
+    fn new(bins: usize) -> Self {
+        Self {
+            slots: vec![CombSlot::default(); CACHE_SLOTS],
+            data: vec![0.0; CACHE_SLOTS * bins],
+        }
+    }
+
+    fn clear(&mut self) {
+        for s in &mut self.slots {
+            s.valid = false;
+        }
+    }
+
+    fn find(&self, res: &Resonator, ear: usize, version: u64, enabled: bool) -> Option<usize> {
+        if !enabled {
+            return None;
+        }
+        self.slots.iter().position(|s| {
+            s.valid
+                && s.ear as usize == ear
+                && s.scene_version == version
+                && (0..3)
+                    .map(|i| (s.centre_m[i] - res.centre_m[i]).powi(2))
+                    .sum::<f32>()
+                    <= CACHE_TOLERANCE_M * CACHE_TOLERANCE_M
+                && (0..3)
+                    .map(|i| (s.normal[i] - res.normal[i]).powi(2))
+                    .sum::<f32>()
+                    <= CACHE_TOLERANCE_NORMAL * CACHE_TOLERANCE_NORMAL
+        })
+    }
+
+    /// The least recently used slot, re-keyed for `res`.
+    fn claim(&mut self, res: &Resonator, ear: usize, version: u64) -> usize {
+        let k = self
+            .slots
+            .iter()
+            .enumerate()
+            .min_by_key(|(_, s)| if s.valid { s.last_used + 1 } else { 0 })
+            .map_or(0, |(k, _)| k);
+        self.slots[k] = CombSlot {
+            valid: true,
+            ear: ear as u8,
+            scene_version: version,
+            centre_m: res.centre_m,
+            normal: res.normal,
+            last_used: 0,
+        };
+        k
+    }
+
+    fn touch(&mut self, k: usize, hop: u64) {
+        self.slots[k].last_used = hop;
+    }
+
+    fn magnitude(&self, k: usize, bins: usize) -> &[f32] {
+        &self.data[k * bins..(k + 1) * bins]
+    }
+
+    fn magnitude_mut(&mut self, k: usize, bins: usize) -> &mut [f32] {
+        &mut self.data[k * bins..(k + 1) * bins]
+    }
+}
+
 /// The friction generator.
 pub struct Friction {
     m: usize,
@@ -123,6 +217,7 @@ pub struct Friction {
     num_entries: usize,
     /// Per-cell merged weights for the no-reflector path.
     cell_weight: [Vec<f32>; 2],
+    cache: CombCache,
 }
 
 impl Friction {
@@ -164,6 +259,7 @@ impl Friction {
             entries: [Entry::default(); MAX_ENTRIES],
             num_entries: 0,
             cell_weight: [vec![0.0; sounddb::MAX_CELLS], vec![0.0; sounddb::MAX_CELLS]],
+            cache: CombCache::new(bins),
         }
     }
 
@@ -188,6 +284,7 @@ impl Friction {
         self.num_current = 0;
         self.seg_start = 0;
         self.num_entries = 0;
+        self.cache.clear();
     }
 
     /// Forgets sources and entries (their cells belong to a database being swapped out); the
@@ -266,6 +363,7 @@ impl Friction {
         db: &SoundDb,
         ears: &Ears,
         reflectors: &[Plane],
+        scene_version: u64,
         opts: &RenderOptions,
         out_l: &mut [f32],
         out_r: &mut [f32],
@@ -275,7 +373,7 @@ impl Friction {
         let mut done = 0;
         while done < n {
             if self.hop_pos == self.hop {
-                self.boundary(db, ears, reflectors, opts, counters);
+                self.boundary(db, ears, reflectors, scene_version, opts, counters);
             }
             let m = (n - done).min(self.hop - self.hop_pos);
             let (dl, dr) = (&mut out_l[done..done + m], &mut out_r[done..done + m]);
@@ -298,6 +396,7 @@ impl Friction {
         db: &SoundDb,
         ears: &Ears,
         reflectors: &[Plane],
+        scene_version: u64,
         opts: &RenderOptions,
         counters: &mut RenderCounters,
     ) {
@@ -323,7 +422,7 @@ impl Friction {
             counters.friction_hops_skipped += 1;
             return;
         }
-        self.build_magnitudes(db, ears, reflectors, opts, counters);
+        self.build_magnitudes(db, ears, reflectors, scene_version, opts, counters);
         self.num_entries = 0;
         // Random phases shared by both ears, from the hop's own stream (so skipping silent hops
         // never shifts later phases); DC and Nyquist stay real (0).
@@ -363,6 +462,7 @@ impl Friction {
         db: &SoundDb,
         ears: &Ears,
         reflectors: &[Plane],
+        scene_version: u64,
         opts: &RenderOptions,
         counters: &mut RenderCounters,
     ) {
@@ -381,19 +481,18 @@ impl Friction {
             }
         }
         let cells = db.friction_cells();
+        let bins = self.bins;
         for e in &self.entries[..self.num_entries] {
             let cell = cells[e.cell as usize];
-            let strength = f64::from(e.weight * inv_hop)
-                * size_factor(e.res.radius_m, cell.reference_radius_m);
+            // Unit-strength paths; the strength (amplitude × duration share × size factor)
+            // multiplies |H| afterwards, so a cached |H| serves any strength.
+            let strength = ((e.weight * inv_hop) as f64
+                * size_factor(e.res.radius_m, cell.reference_radius_m))
+                as f32;
             let spectrum = db.friction_spectrum(CellId(e.cell));
             for ear in 0..2 {
-                let mut paths: EarPaths = resonator_paths(
-                    &e.res,
-                    strength,
-                    ears.ear_m[ear],
-                    reflectors,
-                    opts.cos_floor,
-                );
+                let mut paths: EarPaths =
+                    resonator_paths(&e.res, 1.0, ears.ear_m[ear], reflectors, opts.cos_floor);
                 if opts.force_image_path && paths.num_images == 0 {
                     paths.images[0] = Path {
                         gain: 0.0,
@@ -402,19 +501,37 @@ impl Friction {
                     paths.num_images = 1;
                 }
                 if paths.num_images > 0 {
-                    counters.friction_comb_bins += super::dipole::accumulate_comb(
-                        &paths,
-                        1.0,
-                        d_omega,
-                        spectrum,
-                        &mut self.mag[ear],
-                    );
-                } else if merge_cells {
-                    self.cell_weight[ear][e.cell as usize] += paths.direct.gain.abs() as f32;
+                    let slot = self
+                        .cache
+                        .find(&e.res, ear, scene_version, opts.cache_geometry);
+                    let slot = match slot {
+                        Some(k) => {
+                            counters.friction_comb_cache_hits += 1;
+                            k
+                        }
+                        None => {
+                            let k = self.cache.claim(&e.res, ear, scene_version);
+                            counters.friction_comb_bins += super::dipole::comb_magnitude(
+                                &paths,
+                                d_omega,
+                                self.cache.magnitude_mut(k, bins),
+                            );
+                            k
+                        }
+                    };
+                    self.cache.touch(slot, self.hop_index);
+                    let h = self.cache.magnitude(slot, bins);
+                    for ((a, hj), s) in self.mag[ear].iter_mut().zip(h).zip(spectrum) {
+                        *a += (strength * hj) * s;
+                    }
                 } else {
-                    let g = paths.direct.gain.abs() as f32;
-                    for (a, s) in self.mag[ear].iter_mut().zip(spectrum) {
-                        *a += g * s;
+                    let ws = strength * (paths.direct.gain as f32).abs();
+                    if merge_cells {
+                        self.cell_weight[ear][e.cell as usize] += ws;
+                    } else {
+                        for (a, s) in self.mag[ear].iter_mut().zip(spectrum) {
+                            *a += ws * s;
+                        }
                     }
                 }
             }
@@ -431,5 +548,69 @@ impl Friction {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cache_finds_what_it_claimed() {
+        let mut c = CombCache::new(8);
+        let res = Resonator {
+            centre_m: [0.1, 0.0, 0.77],
+            normal: [0.0, 0.0, 1.0],
+            ..Resonator::default()
+        };
+        assert!(c.find(&res, 0, 1, true).is_none());
+        let k = c.claim(&res, 0, 1);
+        c.touch(k, 5);
+        assert_eq!(c.find(&res, 0, 1, true), Some(k));
+        assert!(c.find(&res, 1, 1, true).is_none());
+        assert!(c.find(&res, 0, 2, true).is_none());
+    }
+
+    #[test]
+    fn static_sources_hit_the_cache() {
+        let mut db = sounddb::Database::new(sounddb::DbInfo::default(), 44_100);
+        db.spectra.push(sounddb::FrictionSpectrum {
+            cell: sounddb::Cell::Constrained,
+            magnitudes: vec![0.001; 2048],
+            speed_m_s: 0.1,
+            file: String::new(),
+        });
+        let db = SoundDb::prepare(&db, 44_100.0);
+        let scene = super::super::Scene::default();
+        let ears = Ears::from_scene(&scene);
+        let reflectors: Vec<Plane> = scene.room.reflectors().collect();
+        let mut f = Friction::new(44_100.0, 1);
+        let mut counters = RenderCounters::default();
+        let src = FrictionSource {
+            slip_speed_m_s: 0.1,
+            resonator: Resonator {
+                centre_m: [0.0, 0.0, 0.77],
+                normal: [0.0, 0.0, 1.0],
+                ..Resonator::default()
+            },
+            ..FrictionSource::default()
+        };
+        let opts = RenderOptions::default();
+        let (mut l, mut r) = (vec![0.0f32; 1024], vec![0.0f32; 1024]);
+        for _ in 0..10 {
+            f.set_sources(&[src], &db, true, &mut counters);
+            f.render(
+                &db,
+                &ears,
+                &reflectors,
+                1,
+                &opts,
+                &mut l,
+                &mut r,
+                &mut counters,
+            );
+        }
+        assert_eq!(counters.friction_comb_bins, 2 * 1025, "{counters:?}");
+        assert_eq!(counters.friction_comb_cache_hits, 2 * 8);
     }
 }

@@ -56,7 +56,7 @@ impl GainSmoother {
 
     /// Advances one sample and returns the new value.
     #[inline]
-    pub fn next(&mut self) -> f32 {
+    pub fn tick(&mut self) -> f32 {
         if self.current != self.target {
             let d = self.target - self.current;
             let next = self.current + d * self.coeff;
@@ -117,7 +117,7 @@ impl LinearRamp {
 
     /// Advances one sample and returns the new value.
     #[inline]
-    pub fn next(&mut self) -> f32 {
+    pub fn tick(&mut self) -> f32 {
         if self.remaining > 0 {
             self.remaining -= 1;
             self.current = if self.remaining == 0 {
@@ -140,13 +140,13 @@ mod tests {
         g.set_target(1.0);
         let mut v = 0.0;
         for _ in 0..48_000 {
-            v = g.next();
+            v = g.tick();
         }
         assert_eq!(v, 1.0);
         assert!(g.is_steady());
         g.set_target(0.0);
         for _ in 0..48_000 {
-            v = g.next();
+            v = g.tick();
         }
         assert_eq!(v, 0.0);
     }
@@ -155,11 +155,11 @@ mod tests {
     fn ramp_lands_on_target() {
         let mut r = LinearRamp::default();
         r.set_target(2.0, 4);
-        let v: Vec<f32> = (0..6).map(|_| r.next()).collect();
+        let v: Vec<f32> = (0..6).map(|_| r.tick()).collect();
         assert_eq!(v, vec![0.5, 1.0, 1.5, 2.0, 2.0, 2.0]);
         r.set_target(0.0, 3);
         for _ in 0..3 {
-            r.next();
+            r.tick();
         }
         assert_eq!(r.value(), 0.0);
         assert!(r.is_steady());

@@ -182,7 +182,7 @@ impl TearNoise {
             return false;
         }
         for o in out.iter_mut() {
-            let v = self.speed.next();
+            let v = self.speed.tick();
             if self.n >= self.next_pos {
                 // Reached the next grain: it becomes the previous one; draw a new next grain.
                 self.prev_pos = self.next_pos;

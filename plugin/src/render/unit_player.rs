@@ -203,17 +203,51 @@ impl Voice {
         }
         let mut images = 0;
         for (e, out) in [&mut out_l[..n], &mut out_r[..n]].into_iter().enumerate() {
-            for k in 0..self.taps.num[e] {
-                let f = &self.filters[e][k];
-                let off = (dmax - i64::from(f.delay_int)) as usize;
-                f.add_to(&scratch[off..], out);
-                if k > 0 {
-                    images += 1;
+            let num = self.taps.num[e];
+            let off = |k: usize| (dmax - i64::from(self.filters[e][k].delay_int)) as usize;
+            match num {
+                0 => {}
+                1 => self.filters[e][0].add_to(&scratch[off(0)..], out),
+                2 => add_two(
+                    &self.filters[e][0],
+                    &scratch[off(0)..],
+                    &self.filters[e][1],
+                    &scratch[off(1)..],
+                    out,
+                ),
+                _ => {
+                    add_two(
+                        &self.filters[e][0],
+                        &scratch[off(0)..],
+                        &self.filters[e][1],
+                        &scratch[off(1)..],
+                        out,
+                    );
+                    for k in 2..num {
+                        self.filters[e][k].add_to(&scratch[off(k)..], out);
+                    }
                 }
             }
+            images += num.saturating_sub(1) as u64;
         }
         self.pos += n as u64;
         images
+    }
+}
+
+/// Two taps in one pass over `out` (one load/store of the output for eight input reads). Same
+/// arithmetic order as two [`FracTap::add_to`] calls: (out + tap a) + tap b.
+#[inline]
+fn add_two(a: &FracTap, xa: &[f32], b: &FracTap, xb: &[f32], out: &mut [f32]) {
+    let n = out.len();
+    let [a0, a1, a2, a3] = a.coeffs;
+    let [b0, b1, b2, b3] = b.coeffs;
+    let (p0, p1, p2, p3) = (&xa[..n], &xa[1..n + 1], &xa[2..n + 2], &xa[3..n + 3]);
+    let (q0, q1, q2, q3) = (&xb[..n], &xb[1..n + 1], &xb[2..n + 2], &xb[3..n + 3]);
+    for t in 0..n {
+        let ta = a0 * p0[t] + a1 * p1[t] + a2 * p2[t] + a3 * p3[t];
+        let tb = b0 * q0[t] + b1 * q1[t] + b2 * q2[t] + b3 * q3[t];
+        out[t] = (out[t] + ta) + tb;
     }
 }
 

@@ -13,8 +13,8 @@
 //! 3. **Culling** (§11.5): not started if its estimated peak is below −90 dBFS, or more than
 //!    60 dB below the loudest voice started in the last 50 ms.
 //! 4. **Merging** (§11.5): a trigger of the same unit as a voice started in the same batch, whose
-//!    taps are within 1 sample of that voice's, is folded into it (gains summed, delays averaged
-//!    by gain) — one voice instead of two.
+//!    taps are within 10 µs of that voice's, is folded into it (gains summed, delays averaged by
+//!    gain) — one voice instead of two.
 //! 5. **Stealing**: when the pool is full, the voice with the lowest remaining level (peak ×
 //!    remaining fraction) is faded out over [`STEAL_FADE_MS`] and replaced — unless the new voice
 //!    would be even quieter, in which case the trigger is dropped.
@@ -46,8 +46,9 @@ pub const CULL_FLOOR_DB: f32 = -90.0;
 pub const CULL_MASK_DB: f32 = -60.0;
 /// Window of "recent" voices for masking, ms.
 pub const MASK_WINDOW_MS: f64 = 50.0;
-/// Largest tap delay difference for merging, samples.
-pub const MERGE_TOLERANCE_SAMPLES: f64 = 1.0;
+/// Largest tap delay difference for merging, s (10 µs: a comb notch from the averaged delays
+/// would sit at ≥ 50 kHz).
+pub const MERGE_TOLERANCE_S: f64 = 10e-6;
 /// Largest block the pool renders at once, samples.
 pub const MAX_CHUNK: usize = 256;
 /// Largest event amplitude accepted (beyond: clamped).
@@ -249,7 +250,8 @@ impl VoicePool {
                     && v.batch == ctx.batch
                     && v.pos == 0
                     && v.unit == unit_index
-                    && v.taps.compatible(&taps, MERGE_TOLERANCE_SAMPLES)
+                    && v.taps
+                        .compatible(&taps, MERGE_TOLERANCE_S * self.sample_rate_hz)
             })
         {
             v.taps.merge(&taps);

@@ -173,7 +173,11 @@ mod tests {
                 .map(|p| {
                     let (u, v) = if axis == 0 { (p.x, p.y) } else { (p.y, p.x) };
                     let (a, z) = (r * (u / r).sin(), r * (1.0 - (u / r).cos()));
-                    if axis == 0 { V3::new(a, v, z) } else { V3::new(v, a, z) }
+                    if axis == 0 {
+                        V3::new(a, v, z)
+                    } else {
+                        V3::new(v, a, z)
+                    }
                 })
                 .collect();
             let mut e_sum = 0.0;
@@ -185,7 +189,10 @@ mod tests {
             let plate = 0.5 * b / (r * r) * 0.2 * 0.3;
             let ratio = e_sum / plate;
             // Boundary hinges are missing (the sheet's free edges), hence a few % low.
-            assert!((0.9..1.02).contains(&ratio), "axis {axis}: {e_sum} vs {plate}");
+            assert!(
+                (0.9..1.02).contains(&ratio),
+                "axis {axis}: {e_sum} vs {plate}"
+            );
         }
         // Damage divides the stiffness.
         assert!((hinge_stiffness(1.0, 1.0, 10.0) - 0.5 / 11.0).abs() < 1e-15);

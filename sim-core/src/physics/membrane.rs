@@ -23,9 +23,57 @@
 //! geometric term uses S projected onto the PSD cone (eigenvalues clamped at 0) — the usual
 //! "clamped geometric stiffness" (an impl. choice; the seeds do not describe their solver's
 //! linearization). Only the Hessian is modified; the energy and forces are exact.
+//!
+//! **Collapse barrier** (impl. choice). StVK is notoriously soft in strong compression: its
+//! stress peaks at a stretch of 1/√3 and vanishes at zero, so a triangle squeezed hard enough
+//! collapses and turns over. Below an area ratio `J = area/Ā` of [`BARRIER_J0`] we add
+//!
+//! ```text
+//! W_bar = Ā (λ + 2μ) (J₀ − J)² / J        (C¹ at J₀, → ∞ as J → 0, convex in J)
+//! ```
+//!
+//! which never acts in ordinary bending (J ≈ 1) and makes collapse impossible for the line
+//! search of the Newton solver. Its Hessian is Gauss–Newton (`W''(J) ∇J∇Jᵀ`).
 
 use crate::math::{M2, M3, V2, V3, sym2_clamp_psd};
 use crate::sheet::physical::TriRest;
+
+/// Area ratio below which the collapse barrier acts.
+pub const BARRIER_J0: f64 = 0.5;
+
+/// Barrier value, dW/dJ and d²W/dJ² per unit area and unit stiffness, for an area ratio `j`.
+#[inline]
+fn barrier(j: f64) -> (f64, f64, f64) {
+    if j >= BARRIER_J0 {
+        return (0.0, 0.0, 0.0);
+    }
+    if j <= 0.0 {
+        return (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY);
+    }
+    let d = BARRIER_J0 - j;
+    (
+        d * d / j,
+        -d * (BARRIER_J0 + j) / (j * j),
+        2.0 * BARRIER_J0 * BARRIER_J0 / (j * j * j),
+    )
+}
+
+/// Area ratio J of a triangle and its gradient (per vertex).
+#[inline]
+fn area_ratio_grad(x: &[V3; 3], rest: &TriRest) -> (f64, [V3; 3]) {
+    let e1 = x[1] - x[0];
+    let e2 = x[2] - x[0];
+    let n = e1.cross(&e2);
+    let nl = n.norm();
+    let s = 1.0 / (2.0 * rest.area_m2);
+    if nl <= 0.0 {
+        return (0.0, [V3::zeros(); 3]);
+    }
+    let nh = n / nl;
+    let g1 = e2.cross(&nh) * s;
+    let g2 = nh.cross(&e1) * s;
+    (nl * s, [-(g1 + g2), g1, g2])
+}
 
 /// Material constants of the membrane, already scaled for the simulation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,6 +123,8 @@ pub fn energy(x: [V3; 3], rest: &TriRest, g_prev: &M2, damp: f64, p: &MembranePa
     if damp > 0.0 {
         e += damp * energy_density(&(g - g_prev), p);
     }
+    let j = (x[1] - x[0]).cross(&(x[2] - x[0])).norm() / (2.0 * rest.area_m2);
+    e += (p.lambda_n_m + 2.0 * p.mu_n_m) * barrier(j).0;
     rest.area_m2 * e
 }
 
@@ -148,6 +198,23 @@ pub fn grad_hess(
             }
         }
     }
+    // Collapse barrier.
+    let kb = p.lambda_n_m + 2.0 * p.mu_n_m;
+    let (j, gj) = area_ratio_grad(&x, rest);
+    let (wb, dwb, d2wb) = barrier(j);
+    let mut bar = [[M3::zeros(); 3]; 3];
+    if wb > 0.0 {
+        e += kb * wb;
+        for v in 0..3 {
+            grad[v] += gj[v] * (a * kb * dwb);
+        }
+        let c = a * kb * d2wb;
+        for u in 0..3 {
+            for v in 0..3 {
+                bar[u][v] = gj[u] * gj[v].transpose() * c;
+            }
+        }
+    }
     let k00 = k[0][0] + k[0][1] + k[1][0] + k[1][1];
     hess[0][0] = k00;
     for j in 0..2 {
@@ -156,6 +223,11 @@ pub fn grad_hess(
         hess[j + 1][0] = -(k[j][0] + k[j][1]);
         for kk in 0..2 {
             hess[j + 1][kk + 1] = k[j][kk];
+        }
+    }
+    for u in 0..3 {
+        for v in 0..3 {
+            hess[u][v] += bar[u][v];
         }
     }
     a * e
@@ -269,6 +341,44 @@ mod tests {
     }
 
     #[test]
+    fn barrier_resists_collapse_and_matches_its_gradient() {
+        let (_, rest, p) = setup();
+        // Squash the triangle to 30 % of its area: inside the barrier.
+        let x = [
+            V3::new(0.0, 0.0, 0.0),
+            V3::new(0.03, 0.0, 0.0),
+            V3::new(0.012, 0.026 * 0.3, 0.0),
+        ];
+        let mut g = [V3::zeros(); 3];
+        let mut h = [[M3::zeros(); 3]; 3];
+        grad_hess(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
+        let eps = 1e-9;
+        for a in 0..3 {
+            for c in 0..3 {
+                let mut xp = x;
+                let mut xm = x;
+                xp[a][c] += eps;
+                xm[a][c] -= eps;
+                let fd = (energy(xp, &rest, &M2::zeros(), 0.0, &p)
+                    - energy(xm, &rest, &M2::zeros(), 0.0, &p))
+                    / (2.0 * eps);
+                assert!(
+                    (fd - g[a][c]).abs() < 1e-4 * (1.0 + g[a][c].abs()),
+                    "v{a} c{c}: {fd} vs {}",
+                    g[a][c]
+                );
+            }
+        }
+        // The energy grows without bound as the area vanishes.
+        let squash = |f: f64| {
+            let x = [x[0], x[1], V3::new(0.012, 0.026 * f, 0.0)];
+            energy(x, &rest, &M2::zeros(), 0.0, &p)
+        };
+        assert!(squash(0.01) > 10.0 * squash(0.2));
+        assert!(squash(0.0).is_infinite());
+    }
+
+    #[test]
     fn hessian_is_symmetric_psd_under_compression() {
         let (_, rest, p) = setup();
         let x = [
@@ -280,9 +390,9 @@ mod tests {
         let mut h = [[M3::zeros(); 3]; 3];
         grad_hess(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
         let mut full = nalgebra::DMatrix::<f64>::zeros(9, 9);
-        for a in 0..3 {
-            for b in 0..3 {
-                full.view_mut((3 * a, 3 * b), (3, 3)).copy_from(&h[a][b]);
+        for (a, row) in h.iter().enumerate() {
+            for (b, blk) in row.iter().enumerate() {
+                full.view_mut((3 * a, 3 * b), (3, 3)).copy_from(blk);
             }
         }
         assert!((&full - full.transpose()).norm() < 1e-9 * full.norm());

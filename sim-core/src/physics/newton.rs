@@ -10,7 +10,9 @@
 //!     g = ∇E(x),  H = PSD approximation of ∇²E(x)        (membrane: clamped geometric term;
 //!                                                        hinges and friction: Gauss–Newton)
 //!     solve H Δ = −g  on the free vertices               (faer sparse Cholesky, fixed pattern)
-//!     α = 1; while E(x + αΔ) > E(x) + 10⁻⁴ α gᵀΔ: α ← α/2   (≤ 8 halvings)
+//!     α = 1; while E(x + αΔ) > E(x) + 10⁻⁴ α gᵀΔ
+//!                  or a triangle of x + αΔ is turned by > 90° from x_n: α ← α/2   (≤ 8 halvings)
+//!     (no acceptable α: retry with H + ρ M/h², ρ = 10, 1000 — Levenberg–Marquardt)
 //!     x ← x + αΔ;  stop when max |αΔ_i| < tolerance
 //! v = (x − x_n) / h
 //! ```
@@ -18,7 +20,10 @@
 //! H is positive definite on the free vertices (mass term m/h² plus PSD element terms), so the
 //! Cholesky factorization exists and Δ is a descent direction; the Armijo line search makes
 //! every accepted step decrease E, which is what keeps large, clamped handle motions from
-//! exploding. An iteration cap below convergence (the usual real-time setting) still returns a
+//! exploding. The line search also refuses steps that turn a triangle over with respect to
+//! the start of the substep (more than 90° in one substep, an angular speed the sheet never
+//! reaches at 200 frames/s except in a numerical blow-up); together with the collapse barrier
+//! of the membrane this keeps the mesh from inverting. An iteration cap below convergence (the usual real-time setting) still returns a
 //! state of lower energy than the start.
 
 use crate::collision::{
@@ -26,15 +31,19 @@ use crate::collision::{
 };
 use crate::math::{GRAVITY_M_S2, M3, V3};
 use crate::physics::sparse::BlockSystem;
-use crate::physics::{Kinematics, PhysParams, SolverConfig, SubstepFrame, SubstepReport, bending, membrane};
+use crate::physics::{
+    Kinematics, PhysParams, SolverConfig, SubstepFrame, SubstepReport, bending, membrane,
+};
 use crate::sheet::physical::PhysMesh;
 
 /// Local vertex pairs of a triangle's off-diagonal blocks.
 const TRI_PAIRS: [(usize, usize); 3] = [(0, 1), (0, 2), (1, 2)];
 /// Local vertex pairs of a hinge's off-diagonal blocks.
 const HINGE_PAIRS: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
-/// Maximal line-search halvings.
+/// Maximal line-search halvings per direction.
 const MAX_HALVINGS: u32 = 8;
+/// Levenberg–Marquardt retries when the line search fails along the Newton direction.
+const MAX_LM_RETRIES: u32 = 2;
 
 /// Newton solver workspace for one mesh.
 #[derive(Debug)]
@@ -127,68 +136,96 @@ impl NewtonSolver {
             };
             self.diag_fixed[i] = mesh.mass_kg[i] / (h * h);
         }
+        // A predictor that turns a triangle over (fast spin or a kinematic jump) would start the
+        // solve beyond the collapse barrier; start the free vertices at rest instead.
+        if Self::flips_any(mesh, &frame.x_n, &mesh.pos) {
+            for i in 0..n {
+                if !kin.fixed[i] {
+                    mesh.pos[i] = frame.x_n[i];
+                }
+            }
+        }
         let mut report = SubstepReport::default();
         let mut e0 = f64::NAN;
-        for _ in 0..cfg.iterations {
+        'newton: for _ in 0..cfg.iterations {
             report.iterations += 1;
             let e = self.assemble(mesh, kin.fixed, ctx, e0.is_nan());
             let e = if e0.is_nan() { e } else { e0 };
-            for i in 0..n {
-                let g = if kin.fixed[i] { V3::zeros() } else { -self.grad[i] };
-                self.sys.rhs[3 * i..3 * i + 3].copy_from_slice(g.as_slice());
-            }
-            if self.sys.factorize_and_solve(kin.fixed, &self.diag_fixed).is_err() {
-                report.recovered = true;
-                break;
-            }
-            // Directional derivative and step size.
-            let mut slope = 0.0;
-            let mut max_step: f64 = 0.0;
-            for i in 0..n {
-                if kin.fixed[i] {
-                    continue;
-                }
-                let d = V3::new(self.sys.rhs[3 * i], self.sys.rhs[3 * i + 1], self.sys.rhs[3 * i + 2]);
-                slope += self.grad[i].dot(&d);
-                max_step = max_step.max(d.amax());
-            }
-            if !(slope.is_finite() && max_step.is_finite()) {
-                report.recovered = true;
-                break;
-            }
-            if slope >= 0.0 {
-                // Converged to round-off: no descent left.
-                break;
-            }
-            let mut alpha = 1.0;
-            let mut accepted = false;
-            let mut e_new = e;
-            for _ in 0..=MAX_HALVINGS {
+            // Newton step; if the line search finds no acceptable step along it (the PSD
+            // approximation underestimated the curvature), retry with Levenberg–Marquardt
+            // damping (H + ρ M/h²), which shortens the step towards scaled gradient descent.
+            let mut reg = 0.0;
+            for _attempt in 0..=MAX_LM_RETRIES {
                 for i in 0..n {
-                    self.x_trial[i] = if kin.fixed[i] {
-                        mesh.pos[i]
+                    let g = if kin.fixed[i] {
+                        V3::zeros()
                     } else {
-                        mesh.pos[i]
-                            + V3::new(self.sys.rhs[3 * i], self.sys.rhs[3 * i + 1], self.sys.rhs[3 * i + 2])
-                                * alpha
+                        -self.grad[i]
                     };
+                    self.sys.rhs[3 * i..3 * i + 3].copy_from_slice(g.as_slice());
                 }
-                e_new = self.energy(mesh, &self.x_trial, kin.fixed, ctx);
-                if e_new <= e + 1e-4 * alpha * slope {
-                    accepted = true;
-                    break;
+                if self
+                    .sys
+                    .factorize_and_solve(kin.fixed, &self.diag_fixed, reg)
+                    .is_err()
+                {
+                    report.recovered = true;
+                    break 'newton;
                 }
-                alpha *= 0.5;
-                report.halvings += 1;
+                let mut slope = 0.0;
+                let mut max_step: f64 = 0.0;
+                for i in 0..n {
+                    if kin.fixed[i] {
+                        continue;
+                    }
+                    let d = V3::new(
+                        self.sys.rhs[3 * i],
+                        self.sys.rhs[3 * i + 1],
+                        self.sys.rhs[3 * i + 2],
+                    );
+                    slope += self.grad[i].dot(&d);
+                    max_step = max_step.max(d.amax());
+                }
+                if !(slope.is_finite() && max_step.is_finite()) {
+                    report.recovered = true;
+                    break 'newton;
+                }
+                if slope >= 0.0 {
+                    // Converged to round-off: no descent left.
+                    break 'newton;
+                }
+                let mut alpha = 1.0;
+                for _ in 0..=MAX_HALVINGS {
+                    for i in 0..n {
+                        self.x_trial[i] = if kin.fixed[i] {
+                            mesh.pos[i]
+                        } else {
+                            mesh.pos[i]
+                                + V3::new(
+                                    self.sys.rhs[3 * i],
+                                    self.sys.rhs[3 * i + 1],
+                                    self.sys.rhs[3 * i + 2],
+                                ) * alpha
+                        };
+                    }
+                    if !Self::flips_new(mesh, &frame.x_n, &mesh.pos, &self.x_trial) {
+                        let e_new = self.energy(mesh, &self.x_trial, kin.fixed, ctx);
+                        if e_new <= e + 1e-4 * alpha * slope {
+                            mesh.pos.copy_from_slice(&self.x_trial);
+                            e0 = e_new;
+                            if alpha * max_step < cfg.tolerance_m {
+                                break 'newton;
+                            }
+                            continue 'newton;
+                        }
+                    }
+                    alpha *= 0.5;
+                    report.halvings += 1;
+                }
+                reg = if reg == 0.0 { 10.0 } else { reg * 100.0 };
             }
-            if !accepted {
-                break;
-            }
-            mesh.pos.copy_from_slice(&self.x_trial);
-            e0 = e_new;
-            if alpha * max_step < cfg.tolerance_m {
-                break;
-            }
+            // No acceptable step even with damping: keep the current iterate.
+            break;
         }
         let inv_h = 1.0 / h;
         for i in 0..n {
@@ -197,10 +234,41 @@ impl NewtonSolver {
         report
     }
 
+    /// True if some triangle's normal turns by more than 90° between `a` and `b`.
+    fn flips_any(mesh: &PhysMesh, a: &[V3], b: &[V3]) -> bool {
+        mesh.triangles.iter().any(|t| {
+            let [i, j, k] = t.map(|v| v as usize);
+            let na = (a[j] - a[i]).cross(&(a[k] - a[i]));
+            let nb = (b[j] - b[i]).cross(&(b[k] - b[i]));
+            na.dot(&nb) <= 0.0 && na.norm_squared() > 0.0
+        })
+    }
+
+    /// True if some triangle that is not turned over (more than 90°) from `x_n` in `cur` is
+    /// turned over in `trial`. Triangles already turned over by a kinematic move do not block
+    /// the solve.
+    fn flips_new(mesh: &PhysMesh, x_n: &[V3], cur: &[V3], trial: &[V3]) -> bool {
+        let normal = |x: &[V3], t: &[u32; 3]| {
+            let [i, j, k] = t.map(|v| v as usize);
+            (x[j] - x[i]).cross(&(x[k] - x[i]))
+        };
+        mesh.triangles.iter().any(|t| {
+            let n0 = normal(x_n, t);
+            n0.dot(&normal(trial, t)) <= 0.0 && n0.dot(&normal(cur, t)) > 0.0
+        })
+    }
+
     /// Per-vertex terms: inertia + gravity, drag, contact penalty, lagged friction.
     /// Returns (energy, gradient, Hessian) — the Hessian only if `hess`.
     #[inline]
-    fn vertex_terms(i: usize, x: &V3, m: f64, x_hat: &V3, ctx: Ctx<'_>, hess: bool) -> (f64, V3, M3) {
+    fn vertex_terms(
+        i: usize,
+        x: &V3,
+        m: f64,
+        x_hat: &V3,
+        ctx: Ctx<'_>,
+        hess: bool,
+    ) -> (f64, V3, M3) {
         let h = ctx.h;
         let p = ctx.params;
         let f = ctx.frame;
@@ -208,7 +276,11 @@ impl NewtonSolver {
         let d = x - x_hat;
         let mut e = 0.5 * mh2 * d.norm_squared() + m * GRAVITY_M_S2 * x.z;
         let mut g = d * mh2 + V3::new(0.0, 0.0, m * GRAVITY_M_S2);
-        let mut hm = if hess { M3::identity() * mh2 } else { M3::zeros() };
+        let mut hm = if hess {
+            M3::identity() * mh2
+        } else {
+            M3::zeros()
+        };
 
         let dx = x - f.x_n[i];
         let n = &f.normal[i];
@@ -267,13 +339,20 @@ impl NewtonSolver {
         let damp_s = ctx.params.membrane_damping_s / ctx.h;
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let xs = tri.map(|i| x[i as usize]);
-            e += membrane::energy(xs, &mesh.tri_rest[t], &ctx.frame.strain[t], damp_s, &ctx.params.membrane);
+            e += membrane::energy(
+                xs,
+                &mesh.tri_rest[t],
+                &ctx.frame.strain[t],
+                damp_s,
+                &ctx.params.membrane,
+            );
         }
         let damp_b = ctx.params.bending_damping_s / ctx.h;
         for (k, hg) in mesh.hinges.iter().enumerate() {
             let xs = hg.v.map(|i| x[i as usize]);
             let ei = hg.edge as usize;
-            let ke = bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
+            let ke =
+                bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
             e += bending::energy(
                 bending::dihedral(&xs),
                 mesh.edge_rest_angle[ei],
@@ -287,7 +366,13 @@ impl NewtonSolver {
 
     /// Fills `self.grad` and the system blocks at the current positions; returns the energy
     /// if `want_energy` (else 0).
-    fn assemble(&mut self, mesh: &PhysMesh, fixed: &[bool], ctx: Ctx<'_>, want_energy: bool) -> f64 {
+    fn assemble(
+        &mut self,
+        mesh: &PhysMesh,
+        fixed: &[bool],
+        ctx: Ctx<'_>,
+        want_energy: bool,
+    ) -> f64 {
         self.sys.clear();
         let x = &mesh.pos;
         let mut e = 0.0;
@@ -296,7 +381,8 @@ impl NewtonSolver {
                 self.grad[i] = V3::zeros();
                 continue;
             }
-            let (ei, gi, hi) = Self::vertex_terms(i, &x[i], mesh.mass_kg[i], &self.x_hat[i], ctx, true);
+            let (ei, gi, hi) =
+                Self::vertex_terms(i, &x[i], mesh.mass_kg[i], &self.x_hat[i], ctx, true);
             e += ei;
             self.grad[i] = gi;
             self.sys.add_diag(i as u32, &hi);
@@ -330,19 +416,21 @@ impl NewtonSolver {
                 continue;
             };
             let ei = hg.edge as usize;
-            let ke = bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
+            let ke =
+                bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
             let rest = mesh.edge_rest_angle[ei];
             let th_n = ctx.frame.theta[k];
             if want_energy {
                 e += bending::energy(theta, rest, th_n, ke, damp_b);
             }
             let (de, c) = bending::dtheta_coeffs(theta, rest, th_n, ke, damp_b);
-            for a in 0..4 {
-                self.grad[hg.v[a] as usize] += gt[a] * de;
-                self.sys.add_diag(hg.v[a], &(gt[a] * gt[a].transpose() * c));
+            for (&v, g) in hg.v.iter().zip(&gt) {
+                self.grad[v as usize] += g * de;
+                self.sys.add_diag(v, &(g * g.transpose() * c));
             }
             for (p, &(a, b)) in HINGE_PAIRS.iter().enumerate() {
-                self.sys.add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
+                self.sys
+                    .add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
             }
         }
         if want_energy {
@@ -402,7 +490,11 @@ mod tests {
         );
         assert!(!r.recovered);
         for (x, v) in mesh.pos.iter().zip(&mesh.vel) {
-            assert!((x.z - (0.75 - GRAVITY_M_S2 * h * h)).abs() < 1e-9, "{}", x.z);
+            assert!(
+                (x.z - (0.75 - GRAVITY_M_S2 * h * h)).abs() < 1e-9,
+                "{}",
+                x.z
+            );
             assert!((v.z + GRAVITY_M_S2 * h).abs() < 1e-6);
         }
     }

@@ -24,10 +24,10 @@
 //! normal). This is the usual XPBD cloth recipe; it is a different discretization of the
 //! same model, not the same equations as the Newton solver.
 
+use crate::collision::Obstacles;
 use crate::math::{GRAVITY_M_S2, V3, wrap_angle};
 use crate::physics::{Kinematics, PhysParams, SolverConfig, SubstepFrame, SubstepReport, bending};
 use crate::sheet::physical::PhysMesh;
-use crate::collision::Obstacles;
 
 /// XPBD workspace for one mesh.
 #[derive(Debug)]
@@ -112,7 +112,8 @@ impl XpbdSolver {
                 let k = params.stretch_n_m * self.edge_weight[e];
                 let alpha = 1.0 / (k * h2);
                 let rate = gdir.dot(&((mesh.pos[a] - frame.x_n[a]) - (mesh.pos[b] - frame.x_n[b])));
-                let dl = (-c - alpha * self.lambda_edge[e] - gamma_s * rate) / ((1.0 + gamma_s) * wsum + alpha);
+                let dl = (-c - alpha * self.lambda_edge[e] - gamma_s * rate)
+                    / ((1.0 + gamma_s) * wsum + alpha);
                 self.lambda_edge[e] += dl;
                 mesh.pos[a] += gdir * (wa * dl);
                 mesh.pos[b] -= gdir * (wb * dl);
@@ -124,14 +125,15 @@ impl XpbdSolver {
                     continue;
                 };
                 let ei = hg.edge as usize;
-                let ke = bending::hinge_stiffness(params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
+                let ke =
+                    bending::hinge_stiffness(params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
                 let c = wrap_angle(theta - mesh.edge_rest_angle[ei]);
                 let mut wsum = 0.0;
                 let mut rate = 0.0;
-                for a in 0..4 {
-                    let v = hg.v[a] as usize;
-                    wsum += self.inv_mass[v] * gt[a].norm_squared();
-                    rate += gt[a].dot(&(mesh.pos[v] - frame.x_n[v]));
+                for (&v, g) in hg.v.iter().zip(&gt) {
+                    let v = v as usize;
+                    wsum += self.inv_mass[v] * g.norm_squared();
+                    rate += g.dot(&(mesh.pos[v] - frame.x_n[v]));
                 }
                 if wsum <= 0.0 {
                     continue;
@@ -140,9 +142,9 @@ impl XpbdSolver {
                 let dl = (-c - alpha * self.lambda_hinge[k] - gamma_b * rate)
                     / ((1.0 + gamma_b) * wsum + alpha);
                 self.lambda_hinge[k] += dl;
-                for a in 0..4 {
-                    let v = hg.v[a] as usize;
-                    mesh.pos[v] += gt[a] * (self.inv_mass[v] * dl);
+                for (&v, g) in hg.v.iter().zip(&gt) {
+                    let v = v as usize;
+                    mesh.pos[v] += g * (self.inv_mass[v] * dl);
                 }
             }
             // Contacts with friction.

@@ -140,13 +140,17 @@ impl GeomStructure {
             let next = sp.pattern[loop_sp[(i + 1) % n] as usize];
             let turn = signed_area(prev, cur, next).abs();
             let corner = turn > 1e-12 * perimeter * perimeter;
-            let far_enough = s_of[i] - last_s >= 0.999 * spacing
-                && perimeter - s_of[i] >= 0.5 * spacing;
+            let far_enough =
+                s_of[i] - last_s >= 0.999 * spacing && perimeter - s_of[i] >= 0.5 * spacing;
             if corner || far_enough {
                 vertices.push(GVertex {
                     p2: cur,
                     p3: sp.pos[loop_sp[i] as usize],
-                    kind: if corner { VKind::Corner } else { VKind::Boundary },
+                    kind: if corner {
+                        VKind::Corner
+                    } else {
+                        VKind::Boundary
+                    },
                     bound_s_m: Some(s_of[i]),
                     sp_index: loop_sp[i],
                 });
@@ -190,7 +194,9 @@ impl GeomStructure {
                 return Err(format!("S_G vertex {i} maps to a missing S_P vertex"));
             };
             if (q - v.p2).norm() > 1e-9 {
-                return Err(format!("S_G vertex {i} is not at its S_P vertex's pattern position"));
+                return Err(format!(
+                    "S_G vertex {i} is not at its S_P vertex's pattern position"
+                ));
             }
         }
         let mut area = 0.0;
@@ -220,7 +226,9 @@ impl GeomStructure {
         if self.curved.is_empty() {
             let sp_area: f64 = sp.tri_rest.iter().map(|t| t.area_m2).sum();
             if (area - sp_area).abs() > 1e-9 * sp_area.max(1e-12) {
-                return Err(format!("flat regions cover {area} m², the sheet is {sp_area} m²"));
+                return Err(format!(
+                    "flat regions cover {area} m², the sheet is {sp_area} m²"
+                ));
             }
         }
         Ok(())
@@ -267,7 +275,10 @@ pub fn ear_clip(pts: &[V2]) -> Vec<[u32; 3]> {
             let (ia, ib, ic) = (idx[(k + n - 1) % n], idx[k], idx[(k + 1) % n]);
             let (a, b, c) = (pts[ia as usize], pts[ib as usize], pts[ic as usize]);
             let area = signed_area(a, b, c);
-            let scale = (b - a).norm_squared().max((c - b).norm_squared()).max(1e-300);
+            let scale = (b - a)
+                .norm_squared()
+                .max((c - b).norm_squared())
+                .max(1e-300);
             if area <= 1e-12 * scale {
                 continue;
             }
@@ -319,7 +330,11 @@ mod tests {
             assert_eq!(sg.flats.len(), 1);
             assert!(sg.curved.is_empty());
             assert_eq!(sg.num_singular(), 0);
-            let corners = sg.vertices.iter().filter(|v| v.kind == VKind::Corner).count();
+            let corners = sg
+                .vertices
+                .iter()
+                .filter(|v| v.kind == VKind::Corner)
+                .count();
             assert_eq!(corners, 4);
             assert!(
                 (10..=20).contains(&sg.vertices.len()),

@@ -111,7 +111,11 @@ mod tests {
 
     #[test]
     fn lattice_covers_the_rectangle_with_ccw_triangles() {
-        for &(w, l, s) in &[(0.21, 0.297, 0.033), (0.1, 0.1, 0.011), (0.105, 0.148, 0.02)] {
+        for &(w, l, s) in &[
+            (0.21, 0.297, 0.033),
+            (0.1, 0.1, 0.011),
+            (0.105, 0.148, 0.02),
+        ] {
             let p = lattice(w, l, s);
             let mut area = 0.0;
             for t in &p.triangles {

@@ -90,7 +90,11 @@ pub enum MeshError {
 
 impl PhysMesh {
     /// Builds S_P from a pattern, placed flat at height `z_m`, at rest, undamaged.
-    pub fn from_pattern(p: &Pattern, z_m: f64, areal_density_kg_m2: f64) -> Result<Self, MeshError> {
+    pub fn from_pattern(
+        p: &Pattern,
+        z_m: f64,
+        areal_density_kg_m2: f64,
+    ) -> Result<Self, MeshError> {
         for (i, q) in p.points.iter().enumerate() {
             if !(q.x.is_finite() && q.y.is_finite()) {
                 return Err(MeshError::NonFinite(i as u32));
@@ -110,11 +114,13 @@ impl PhysMesh {
         for (t, tri) in p.triangles.iter().enumerate() {
             let [a, b, c] = tri.map(|i| p.points[i as usize]);
             let area = signed_area(a, b, c);
-            if !(area > 1e-10 * scale2) {
+            if area.is_nan() || area <= 1e-10 * scale2 {
                 return Err(MeshError::DegenerateTriangle(t as u32));
             }
             let dm = M2::from_columns(&[b - a, c - a]);
-            let dm_inv = dm.try_inverse().ok_or(MeshError::DegenerateTriangle(t as u32))?;
+            let dm_inv = dm
+                .try_inverse()
+                .ok_or(MeshError::DegenerateTriangle(t as u32))?;
             tri_rest.push(TriRest {
                 dm_inv,
                 area_m2: area,
@@ -154,7 +160,10 @@ impl PhysMesh {
         Ok(Self {
             pos: p.points.iter().map(|q| V3::new(q.x, q.y, z_m)).collect(),
             vel: vec![V3::zeros(); n],
-            mass_kg: vertex_area.iter().map(|a| a * areal_density_kg_m2).collect(),
+            mass_kg: vertex_area
+                .iter()
+                .map(|a| a * areal_density_kg_m2)
+                .collect(),
             vertex_area_m2: vertex_area,
             pattern: p.points.clone(),
             triangles: p.triangles.clone(),

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::control::{GestureParam, Material, SheetSize};
-use crate::gesture_rig::{NUM_HANDLES, RigState};
+use crate::gesture_rig::{NUM_HANDS, RigState};
 
 /// Version of [`SavedSheet`]; bump it (and migrate) whenever its meaning changes.
 ///
@@ -23,6 +23,9 @@ pub const SAVED_SHEET_VERSION: u32 = 2;
 
 /// Half-extent of the room box positions must lie in, metres.
 pub const ROOM_BOX_HALF_M: f64 = 50.0;
+/// Largest accepted frame counter and grab sequence number (2⁵³: exact in f64, centuries
+/// of frames).
+pub const MAX_SAVED_COUNTER: u64 = 1 << 53;
 /// Largest accepted saved speed, m/s.
 pub const MAX_SAVED_SPEED_M_S: f64 = 200.0;
 
@@ -57,8 +60,10 @@ pub struct SavedSheet {
     pub rng: rand_pcg::Pcg32,
     /// The gesture rig.
     pub rig: RigState,
-    /// Slot handles suppressed by crumple handles.
-    pub rig_suppressed: [bool; NUM_HANDLES],
+    /// Held vertices: (vertex, hand, index of the vertex in the hand).
+    pub rig_ownership: Vec<(u32, u8, u8)>,
+    /// Slot hands suppressed by crumple hands.
+    pub rig_suppressed: [bool; NUM_HANDS],
     /// The rig's vertex ownership was pending recomputation.
     pub rig_ownership_pending: bool,
     /// Effective offsets of the obstacle planes (floor, table, wall), metres.
@@ -78,7 +83,9 @@ pub enum RestoreError {
     #[error("saved sheet has version {0}, this build reads version {SAVED_SHEET_VERSION}")]
     Version(u32),
     /// A per-vertex array does not match the number of pattern vertices.
-    #[error("saved sheet has {found} entries in a per-vertex array, the pattern has {expected} vertices ({size:?})")]
+    #[error(
+        "saved sheet has {found} entries in a per-vertex array, the pattern has {expected} vertices ({size:?})"
+    )]
     VertexCount {
         /// Sheet size.
         size: SheetSize,
@@ -107,6 +114,14 @@ impl SavedSheet {
     pub(crate) fn validate_fields(&self) -> Result<(), RestoreError> {
         if self.version != SAVED_SHEET_VERSION {
             return Err(RestoreError::Version(self.version));
+        }
+        if self.frame > MAX_SAVED_COUNTER
+            || self.rig.next_seq > MAX_SAVED_COUNTER
+            || self.rig.grab_seq.iter().any(|&q| q > self.rig.next_seq)
+        {
+            return Err(RestoreError::Invalid(
+                "frame or grab counters are out of range".into(),
+            ));
         }
         let n = self.pattern_m.len();
         if n < 3 {
@@ -146,7 +161,9 @@ impl SavedSheet {
         for (i, v) in self.velocities_m_s.iter().enumerate() {
             let s2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
             if !(finite(s2) && s2 <= MAX_SAVED_SPEED_M_S * MAX_SAVED_SPEED_M_S) {
-                return Err(RestoreError::Invalid(format!("velocity of vertex {i} is not finite or too large")));
+                return Err(RestoreError::Invalid(format!(
+                    "velocity of vertex {i} is not finite or too large"
+                )));
             }
         }
         if self.triangles.is_empty() {
@@ -154,30 +171,41 @@ impl SavedSheet {
         }
         for (i, &a) in self.edge_rest_angle_rad.iter().enumerate() {
             if !(finite(a) && a.abs() <= std::f64::consts::PI) {
-                return Err(RestoreError::Invalid(format!("rest angle of edge {i} is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "rest angle of edge {i} is out of range"
+                )));
             }
         }
         for (i, &d) in self.edge_damage.iter().enumerate() {
             if !(finite(d) && (0.0..=1e6).contains(&d)) {
-                return Err(RestoreError::Invalid(format!("damage of edge {i} is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "damage of edge {i} is out of range"
+                )));
             }
         }
         let mut sing = self.singular_vertices.clone();
         sing.sort_unstable();
         for w in sing.windows(2) {
             if w[0] == w[1] {
-                return Err(RestoreError::Invalid(format!("singular vertex {} is listed twice", w[0])));
+                return Err(RestoreError::Invalid(format!(
+                    "singular vertex {} is listed twice",
+                    w[0]
+                )));
             }
         }
         if let Some(&s) = sing.last()
             && s as usize >= n
         {
-            return Err(RestoreError::Invalid(format!("singular vertex {s} does not exist")));
+            return Err(RestoreError::Invalid(format!(
+                "singular vertex {s} does not exist"
+            )));
         }
         self.validate_rig()?;
         for (k, o) in self.obstacle_offsets_m.iter().enumerate() {
             if !(finite(*o) && o.abs() <= ROOM_BOX_HALF_M) {
-                return Err(RestoreError::Invalid(format!("obstacle {k} offset is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "obstacle {k} offset is out of range"
+                )));
             }
         }
         Ok(())
@@ -188,29 +216,36 @@ impl SavedSheet {
         for g in GestureParam::ALL {
             let v = r.commanded[g.index()];
             if g.sanitize(v) != Some(v) {
-                return Err(RestoreError::Invalid(format!("gesture {} value {v} is out of range", g.id())));
+                return Err(RestoreError::Invalid(format!(
+                    "gesture {} value {v} is out of range",
+                    g.id()
+                )));
             }
             let s = r.smoothed[g.index()];
             let (lo, hi) = g.range();
             if !(finite(s) && s >= f64::from(lo) - 1e-9 && s <= f64::from(hi) + 1e-9) {
-                return Err(RestoreError::Invalid(format!("smoothed gesture {} is out of range", g.id())));
+                return Err(RestoreError::Invalid(format!(
+                    "smoothed gesture {} is out of range",
+                    g.id()
+                )));
             }
         }
         for (i, h) in r.held.iter().enumerate() {
             if let Some(g) = h
                 && !(g.is_finite() && (0.0..=1.0).contains(g))
             {
-                return Err(RestoreError::Invalid(format!("grip of slot {i} is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "grip of slot {i} is out of range"
+                )));
             }
         }
-        for (k, h) in r.handles.iter().enumerate() {
+        for (k, h) in r.hands.iter().enumerate() {
             let nums = h
                 .pose
                 .pos_m
                 .iter()
                 .chain(&h.prev_pose.pos_m)
-                .chain(h.offsets_m.iter().flatten())
-                .chain(h.prev_offsets_m.iter().flatten());
+                .chain(h.offsets_m.iter().flatten());
             let mut ok = true;
             for c in nums {
                 ok &= finite(*c) && c.abs() <= ROOM_BOX_HALF_M;
@@ -220,13 +255,18 @@ impl SavedSheet {
                 ok &= finite(n2) && (n2 - 1.0).abs() < 1e-6;
             }
             ok &= finite(h.speed_m_s) && (0.0..=100.0).contains(&h.speed_m_s);
+            ok &= finite(h.caution) && (0.0..=1.0).contains(&h.caution);
             if !ok {
-                return Err(RestoreError::Invalid(format!("handle {k} state is out of range")));
+                return Err(RestoreError::Invalid(format!(
+                    "hand {k} state is out of range"
+                )));
             }
         }
         for j in &r.crumple_jitter {
             if !j.iter().all(|c| finite(*c) && c.abs() <= 10.0) {
-                return Err(RestoreError::Invalid("crumple jitter is out of range".into()));
+                return Err(RestoreError::Invalid(
+                    "crumple jitter is out of range".into(),
+                ));
             }
         }
         if !(finite(r.shake_phase_rad) && r.shake_phase_rad.abs() <= 100.0) {

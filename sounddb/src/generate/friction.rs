@@ -8,12 +8,13 @@
 //!     HP₆₀   = (f/60)⁴ / (1 + (f/60)⁴)                 hand slides carry little rumble
 //!     tilt   = 1 below f_t, (f/f_t)^(tilt_dB/10 / log10 2) above (power; −3 dB/oct for printer)
 //!     bump   = 10^(bump_dB/10 · exp(−½ (log2(f/f_b)/0.66)²))   the wooden table, 2–5 kHz
-//! |H_panel(f)|² = [ Σ_modes 1 / (1 + ((f − f_mn)/(½ η_b f_mn))²)  +  1 / (1 + (f_low/f)⁴) ]
-//!                 · 1 / (1 + (f / (20 f_low))²)
+//! |H_panel(f)|² = [ Σ_modes η_b² r⁴ / ((1 − r²)² + η_b² r²)  +  1 / (1 + (f_low/f)⁴) ]
+//!                 · 1 / (1 + (f / (20 f_low))²),        r = f / f_mn
 //! ```
 //!
-//! — the 48 lowest modes as Lorentzian power peaks of half-width ½ η_b f_mn, η_b = 3 η (the
-//! excitation is continuous, which broadens the peaks), plus a diffuse unit floor above the
+//! — the 48 lowest modes as the acceleration response of a damped oscillator normalised to a
+//! unit peak (rising as r⁴ below the mode, a plateau η_b² above it), η_b = 3 η (the excitation is
+//! continuous, which broadens the peaks), plus a diffuse unit floor above the
 //! lowest mode f_low (the thousands of higher modes; below f_low the panel barely radiates), the
 //! whole "resonance region" rolling off at −6 dB/octave above 20 f_low. The roll-off is our
 //! [proposal]: with a flat diffuse floor the centroid would *rise* with size (wide high modes
@@ -95,11 +96,9 @@ pub fn free_spectrum(
             }
             let mut h = 1.0 / (1.0 + (f_low / f).powi(4));
             for m in &modes {
-                let hw = 0.5 * eta_b * m.freq_hz;
-                let x = (f - m.freq_hz) / hw;
-                if x.abs() < 60.0 {
-                    h += 1.0 / (1.0 + x * x);
-                }
+                let r2 = (f / m.freq_hz).powi(2);
+                let e2 = eta_b * eta_b;
+                h += e2 * r2 * r2 / ((1.0 - r2).powi(2) + e2 * r2);
             }
             let tail = 1.0 / (1.0 + (f / (RESONANCE_SPAN * f_low)).powi(2));
             roughness_power(p, f) * h * tail * fluctuation(rng)

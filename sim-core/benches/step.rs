@@ -1,0 +1,120 @@
+//! Criterion benches of `Sim::step` on states taken from the seed scenarios.
+//!
+//! Each bench restores a saved mid-scenario state (so every sample starts from the same sheet,
+//! hands and gestures) and steps 10 frames while the scenario's gestures keep the hands moving.
+//! Groups: the default solver on four scenarios, the XPBD comparison solver, and the default
+//! solver at several mesh densities (cost against size). The full run-time-against-error report
+//! (all scenarios, sweeps, percentiles, plot) is `cargo xtask bench-report`.
+
+use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
+use sim_core::physics::{SolverConfig, SolverKind};
+use sim_core::scenario;
+use sim_core::script_runner::ScriptRunner;
+use sim_core::sheet::MeshConfig;
+use sim_core::sim::{FrameOutput, SavedSheet, Sim, SimConfig};
+
+/// Plays `name` for `frames` frames; returns the config, the saved state and the commands of
+/// the next 10 frames.
+fn snapshot(
+    name: &str,
+    frames: u64,
+    base: SimConfig,
+) -> (SimConfig, SavedSheet, Vec<Vec<sim_core::Command>>) {
+    let script = scenario::get(name).expect("scenario");
+    let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).expect("runner");
+    let cfg = runner.config(base);
+    let mut sim = runner.start(base);
+    let mut out = FrameOutput::default();
+    for _ in 0..frames {
+        runner.drive(&mut sim, &mut out);
+    }
+    let saved = sim.save();
+    let mut next = Vec::new();
+    for _ in 0..10 {
+        let mut v = Vec::new();
+        runner.next_frame(&mut v);
+        next.push(v);
+    }
+    (cfg, saved, next)
+}
+
+fn bench_state(c: &mut Criterion, id: &str, name: &str, frames: u64, base: SimConfig) {
+    let (cfg, saved, next) = snapshot(name, frames, base);
+    c.bench_function(id, |b| {
+        b.iter_batched(
+            || Sim::restore(cfg, &saved).expect("restore"),
+            |mut sim| {
+                let mut out = FrameOutput::default();
+                for cmds in &next {
+                    for c in cmds {
+                        sim.apply(*c);
+                    }
+                    sim.step(&mut out);
+                }
+                sim
+            },
+            BatchSize::SmallInput,
+        )
+    });
+}
+
+fn default_solver(c: &mut Criterion) {
+    for (name, frames) in [
+        ("c1_first_sharp_feature", 300),
+        ("c5_full_crumple", 400),
+        ("s1_slide_release_pinch", 250),
+        ("s6_slide_on_table", 200),
+    ] {
+        bench_state(
+            c,
+            &format!("newton_default/{name}/10_frames"),
+            name,
+            frames,
+            SimConfig::default(),
+        );
+    }
+}
+
+fn xpbd_solver(c: &mut Criterion) {
+    let base = SimConfig {
+        solver: SolverConfig {
+            kind: SolverKind::Xpbd,
+            substeps: 20,
+            iterations: 1,
+            ..SolverConfig::default()
+        },
+        ..SimConfig::default()
+    };
+    bench_state(
+        c,
+        "xpbd_20/c5_full_crumple/10_frames",
+        "c5_full_crumple",
+        400,
+        base,
+    );
+}
+
+fn density(c: &mut Criterion) {
+    for k in [5.0, 9.0, 18.0, 31.0] {
+        let base = SimConfig {
+            mesh: MeshConfig {
+                spacing_frac: 1.0 / k,
+            },
+            ..SimConfig::default()
+        };
+        bench_state(
+            c,
+            &format!("density/L_over_{k}/s1/10_frames"),
+            "s1_slide_release_pinch",
+            250,
+            base,
+        );
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
+    targets = default_solver, xpbd_solver, density
+}
+criterion_main!(benches);

@@ -1,0 +1,58 @@
+//! Runs every library scenario with a solver configuration given on the command line and
+//! prints a one-line summary per scenario (timing, length error, health).
+//!
+//! `cargo run --release -p sim-core --example scenario_probe -- [newton|xpbd] SUBSTEPS ITERS
+//! [STRETCH_SCALE] [SPACING_FRAC] [SCENARIO]`
+
+use sim_core::physics::SolverKind;
+use sim_core::scenario;
+use sim_core::scenario_run::run_scenario;
+use sim_core::sim::SimConfig;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut cfg = SimConfig::default();
+    if let Some(k) = args.first() {
+        cfg.solver.kind = if k == "xpbd" {
+            SolverKind::Xpbd
+        } else {
+            SolverKind::Newton
+        };
+    }
+    if let Some(s) = args.get(1) {
+        cfg.solver.substeps = s.parse().expect("substeps");
+    }
+    if let Some(s) = args.get(2) {
+        cfg.solver.iterations = s.parse().expect("iterations");
+    }
+    if let Some(s) = args.get(3) {
+        cfg.solver.stretch_scale = s.parse().expect("stretch scale");
+    }
+    if let Some(s) = args.get(4) {
+        cfg.mesh.spacing_frac = s.parse().expect("spacing");
+    }
+    let only = args.get(5).cloned();
+    println!("{:?}", cfg.solver);
+    for name in scenario::names() {
+        if only.as_deref().is_some_and(|o| o != name) {
+            continue;
+        }
+        let s = run_scenario(name, cfg, true).expect("scenario");
+        println!(
+            "{name:30} tris {:4.0} awake {:4}/{:4} med {:6.3} p99 {:6.3} ms  c_mean {:6.3}% n_comp {:6.2}% strain {:6.3} it/sub {:4.2} flips {} rec {} vmax {:5.2} ke {:.2e}",
+            s.triangles_avg,
+            s.awake_frames,
+            s.frames,
+            s.step_ms_quantile(0.5),
+            s.step_ms_quantile(0.99),
+            s.c_mean_pct,
+            s.n_comp_pct,
+            s.max_strain,
+            s.iterations_per_substep,
+            s.flips,
+            s.recoveries,
+            s.max_speed_m_s,
+            s.kinetic_energy_max_j
+        );
+    }
+}

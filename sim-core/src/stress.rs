@@ -1,0 +1,300 @@
+//! # Stress driver: random, hostile command streams
+//!
+//! Drives a [`Sim`] with a seeded random stream of commands chosen to break it: maximal jumps
+//! of every gesture (min ↔ max in one frame), non-finite and absurd values (NaN, ±∞, 10³⁰),
+//! grab/release storms (several slots per frame, at random grips), crumple on/off, resets,
+//! size/material/room switches (table and wall on/off, heights jumping across the sheet), and
+//! quiet stretches in which the sheet may fall asleep. After every frame it checks the
+//! invariants the physics must keep:
+//!
+//! - every position and velocity finite, inside the room box;
+//! - no flipped triangle (orientation continuity, [`crate::metrics`]), no degenerate triangle
+//!   and no recovered substep;
+//! - bounded speed (no explosion) and bounded strain;
+//! - a valid mesh (topology and S_G consistency, checked periodically and at the end).
+//!
+//! **About the strain bound.** The hostile stream makes hands contradict each other (eight
+//! crumple points squeezing while edge pinches pull, a table rising under held paper, …). The
+//! grip-force limit of the hands ([`crate::gesture_rig`]) bounds the forces, but a frame of
+//! contradiction can still stretch a triangle next to a hand far beyond anything paper survives
+//! (paper tears at a few %); [`MAX_STRAIN`] = 1 (a triangle never stretched to twice its
+//! length or squeezed to nothing) is the bound the physics must never exceed under this stream
+//! (the worst seen in 10⁶ frames is reported by `sim-stress`). The library scenarios stay
+//! far below (see the benchmark report).
+//!
+//! Used by the stress test (`tests/stress.rs`, 10⁵ frames) and the `sim-stress` binary
+//! (10⁶ frames).
+
+use rand::{RngExt, SeedableRng};
+
+use crate::control::{Command, GestureParam, GrabSlot, Material, SheetSize};
+use crate::room::RoomConfig;
+use crate::sim::{FrameOutput, Sim, SimConfig};
+
+/// Largest vertex speed accepted, m/s (paper thrown hard moves at a few m/s).
+pub const MAX_SPEED_M_S: f64 = 50.0;
+/// Largest principal strain deviation |λ − 1| accepted under the hostile stream.
+pub const MAX_STRAIN: f64 = 1.0;
+
+/// What to run.
+#[derive(Clone, Copy, Debug)]
+pub struct StressConfig {
+    /// Seed of the command stream.
+    pub seed: u64,
+    /// Frames to step.
+    pub frames: u64,
+    /// Initial sim configuration.
+    pub sim: SimConfig,
+    /// Allow size changes (they rebuild the sheet at another resolution).
+    pub change_size: bool,
+    /// Check the mesh validity every this many frames.
+    pub validate_every: u64,
+    /// Print every command and frame to stderr (debugging).
+    pub trace: bool,
+}
+
+impl Default for StressConfig {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            frames: 10_000,
+            sim: SimConfig::default(),
+            change_size: true,
+            validate_every: 1000,
+            trace: false,
+        }
+    }
+}
+
+/// The outcome of a stress run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StressReport {
+    /// Frames stepped.
+    pub frames: u64,
+    /// Frames in which the sheet slept.
+    pub asleep_frames: u64,
+    /// Commands applied.
+    pub commands: u64,
+    /// Largest vertex speed seen, m/s.
+    pub max_speed_m_s: f64,
+    /// Largest kinetic energy seen, J.
+    pub max_kinetic_energy_j: f64,
+    /// Largest strain deviation seen.
+    pub max_strain: f64,
+    /// Flipped triangles summed over frames.
+    pub flips: u64,
+    /// Recovered substeps summed over frames.
+    pub recoveries: u64,
+    /// First violation, if any (frame, description).
+    pub failure: Option<(u64, String)>,
+}
+
+impl StressReport {
+    /// True if no invariant was violated.
+    pub fn ok(&self) -> bool {
+        self.failure.is_none()
+    }
+}
+
+fn wild_value(rng: &mut rand_pcg::Pcg32, g: GestureParam) -> f32 {
+    let (lo, hi) = g.range();
+    match rng.random_range(0..10u32) {
+        0 => f32::NAN,
+        1 => {
+            if rng.random::<bool>() {
+                f32::INFINITY
+            } else {
+                f32::NEG_INFINITY
+            }
+        }
+        2 => {
+            if rng.random::<bool>() {
+                1e30
+            } else {
+                -1e30
+            }
+        }
+        3 | 4 => lo,
+        5 | 6 => hi,
+        _ => rng.random_range(lo..=hi),
+    }
+}
+
+fn random_command(rng: &mut rand_pcg::Pcg32, change_size: bool) -> Command {
+    let slot = GrabSlot::ALL[rng.random_range(0..GrabSlot::ALL.len())];
+    match rng.random_range(0..100u32) {
+        0..=39 => {
+            let g = GestureParam::ALL[rng.random_range(0..GestureParam::COUNT)];
+            Command::Gesture {
+                param: g,
+                value: wild_value(rng, g),
+            }
+        }
+        40..=59 => Command::Grab {
+            slot,
+            grip: match rng.random_range(0..6u32) {
+                0 => f32::NAN,
+                1 => 7.0,
+                _ => rng.random_range(0.0..=1.0),
+            },
+        },
+        60..=79 => Command::Release { slot },
+        80..=83 => Command::ReleaseAll,
+        84..=86 => Command::Reset,
+        87..=89 if change_size => Command::Size(SheetSize::ALL[rng.random_range(0..4)]),
+        87..=92 => Command::Material(Material::ALL[rng.random_range(0..3)]),
+        93..=94 => Command::Seed(rng.random()),
+        _ => Command::Room(RoomConfig {
+            table: rng.random_range(0..4u32) != 0,
+            table_height_cm: match rng.random_range(0..5u32) {
+                0 => f32::NAN,
+                1 => 1e9,
+                _ => rng.random_range(30.0..130.0),
+            },
+            wall: rng.random::<bool>(),
+            wall_dist_cm: match rng.random_range(0..5u32) {
+                0 => f32::INFINITY,
+                _ => rng.random_range(0.0..60.0),
+            },
+        }),
+    }
+}
+
+/// Runs a stress session and reports the first violated invariant (if any).
+pub fn run(cfg: &StressConfig) -> StressReport {
+    run_with(cfg, |_, _| {})
+}
+
+/// [`run`], calling `inspect(frame, sim)` after every frame (debugging and tests).
+pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> StressReport {
+    let mut rng = rand_pcg::Pcg32::seed_from_u64(cfg.seed);
+    let mut sim = Sim::new(cfg.sim);
+    let mut out = FrameOutput::default();
+    let mut rep = StressReport::default();
+    // Bursts: a busy phase (commands nearly every frame), a calm phase (rare commands, long
+    // enough for the sheet to settle and sleep), a storm (many commands per frame).
+    let mut phase_left = 0u64;
+    let mut phase = 0u32;
+    for f in 0..cfg.frames {
+        if phase_left == 0 {
+            phase = rng.random_range(0..3);
+            phase_left = rng.random_range(20..400);
+        }
+        phase_left -= 1;
+        let n_cmds = match phase {
+            0 => u32::from(rng.random_range(0..3u32) == 0),
+            1 => u32::from(rng.random_range(0..200u32) == 0),
+            _ => rng.random_range(0..6u32),
+        };
+        for _ in 0..n_cmds {
+            let c = random_command(&mut rng, cfg.change_size);
+            if cfg.trace {
+                eprintln!("  {c:?}");
+            }
+            sim.apply(c);
+            rep.commands += 1;
+        }
+        sim.step(&mut out);
+        inspect(f, &sim);
+        let st = out.stats;
+        if cfg.trace {
+            eprintln!(
+                "frame {f}: asleep {} held {} strain {:.3} vmax {:.3} flips {} it {} halvings {}",
+                st.asleep,
+                st.num_held,
+                st.max_strain,
+                st.max_speed_m_s,
+                st.num_flipped,
+                st.iterations,
+                st.halvings
+            );
+        }
+        rep.frames += 1;
+        rep.asleep_frames += u64::from(st.asleep);
+        rep.flips += u64::from(st.num_flipped);
+        rep.recoveries += u64::from(st.recoveries);
+        let m = sim.metrics();
+        rep.max_speed_m_s = rep.max_speed_m_s.max(m.max_speed_m_s);
+        rep.max_kinetic_energy_j = rep.max_kinetic_energy_j.max(m.kinetic_energy_j);
+        rep.max_strain = rep.max_strain.max(m.max_strain);
+        if let Some(msg) = check(&sim, &out) {
+            rep.failure = Some((f, msg));
+            return rep;
+        }
+        if cfg.validate_every > 0
+            && (f + 1) % cfg.validate_every == 0
+            && let Err(e) = validate_mesh(&sim)
+        {
+            rep.failure = Some((f, e));
+            return rep;
+        }
+    }
+    if let Err(e) = validate_mesh(&sim) {
+        rep.failure = Some((cfg.frames, e));
+    }
+    rep
+}
+
+/// Per-frame invariants.
+fn check(sim: &Sim, out: &FrameOutput) -> Option<String> {
+    let sp = &sim.sheet().sp;
+    for (i, (p, v)) in sp.pos.iter().zip(&sp.vel).enumerate() {
+        if !(crate::math::finite3(p) && crate::math::finite3(v)) {
+            return Some(format!("vertex {i} is not finite"));
+        }
+        if p.x.abs() > 50.0 || p.y.abs() > 50.0 || p.z < -0.5 || p.z > 50.0 {
+            return Some(format!("vertex {i} left the room: {p:?}"));
+        }
+    }
+    let st = &out.stats;
+    if st.num_flipped > 0 {
+        return Some(format!("{} flipped triangles", st.num_flipped));
+    }
+    if st.recoveries > 0 {
+        return Some(format!("{} recovered substeps", st.recoveries));
+    }
+    let m = sim.metrics();
+    if m.max_speed_m_s.is_nan() || m.max_speed_m_s > MAX_SPEED_M_S {
+        return Some(format!("speed {} m/s", m.max_speed_m_s));
+    }
+    if m.max_strain.is_nan() || m.max_strain > MAX_STRAIN {
+        return Some(format!("strain {}", m.max_strain));
+    }
+    if m.num_degenerate > 0 {
+        return Some(format!("{} degenerate triangles", m.num_degenerate));
+    }
+    None
+}
+
+/// Structural validity of the sheet.
+pub fn validate_mesh(sim: &Sim) -> Result<(), String> {
+    let sheet = sim.sheet();
+    sheet.sp.topo.validate()?;
+    if sheet.sp.topo.euler_characteristic() != 1 {
+        return Err("the sheet is not a disc".into());
+    }
+    sheet.sg.validate(&sheet.sp)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_stress_run_is_clean() {
+        let cfg = StressConfig {
+            frames: 300,
+            sim: SimConfig {
+                size: SheetSize::A6,
+                mesh: crate::sheet::MeshConfig { spacing_frac: 0.25 },
+                ..SimConfig::default()
+            },
+            validate_every: 50,
+            ..StressConfig::default()
+        };
+        let r = run(&cfg);
+        assert!(r.ok(), "{:?}", r.failure);
+        assert!(r.commands > 30);
+    }
+}

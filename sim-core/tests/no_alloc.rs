@@ -1,0 +1,157 @@
+//! `Sim::step`, `Sim::apply` (all commands but `Reset` and `Size`) and `Sim::write_mesh` into a
+//! snapshot of sufficient capacity do not allocate: a counting global allocator counts the
+//! allocations made on this thread while the sim runs (after `Sim::new`, which preallocates).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+use sim_core::control::{Command, GestureParam, GrabSlot, Material};
+use sim_core::mesh_snapshot::MeshSnapshot;
+use sim_core::physics::SolverKind;
+use sim_core::room::RoomConfig;
+use sim_core::sim::{FrameOutput, Sim, SimConfig};
+
+struct Counting;
+
+thread_local! {
+    /// Counting switched on for this thread.
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+    /// Allocations counted on this thread (tests run on parallel threads).
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+fn note() {
+    if COUNTING.try_with(Cell::get).unwrap_or(false) {
+        let _ = ALLOCATIONS.try_with(|a| a.set(a.get() + 1));
+    }
+}
+
+// SAFETY: forwards to the system allocator; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        note();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        note();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        note();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Runs `f` and returns the number of allocations it made on this thread.
+fn count(f: impl FnOnce()) -> u64 {
+    let before = ALLOCATIONS.with(Cell::get);
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    ALLOCATIONS.with(Cell::get) - before
+}
+
+fn exercise(sim: &mut Sim, out: &mut FrameOutput, snap: &mut MeshSnapshot) {
+    let gestures = [
+        (GestureParam::Slide, 0.6),
+        (GestureParam::Lift, 0.4),
+        (GestureParam::Twist, 0.3),
+        (GestureParam::ShakeDepth, 0.5),
+        (GestureParam::ShakeRateHz, 5.0),
+        (GestureParam::TearAmount, 0.5),
+    ];
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Back,
+        grip: 0.7,
+    });
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Front,
+        grip: 0.9,
+    });
+    for (g, v) in gestures {
+        sim.apply(Command::Gesture { param: g, value: v });
+    }
+    sim.apply(Command::Gesture {
+        param: GestureParam::Lift,
+        value: f32::NAN,
+    });
+    for _ in 0..120 {
+        sim.step(out);
+    }
+    sim.write_mesh(snap);
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Corners,
+        grip: 0.3,
+    });
+    sim.apply(Command::Gesture {
+        param: GestureParam::Crumple,
+        value: 0.8,
+    });
+    sim.apply(Command::Material(Material::Banknote));
+    sim.apply(Command::Seed(99));
+    sim.apply(Command::Room(RoomConfig {
+        wall: true,
+        wall_dist_cm: 10.0,
+        table_height_cm: 80.0,
+        ..RoomConfig::default()
+    }));
+    for _ in 0..150 {
+        sim.step(out);
+    }
+    sim.apply(Command::Release {
+        slot: GrabSlot::Back,
+    });
+    sim.apply(Command::Gesture {
+        param: GestureParam::Crumple,
+        value: 0.0,
+    });
+    sim.apply(Command::ReleaseAll);
+    for _ in 0..200 {
+        sim.step(out);
+    }
+    sim.write_mesh(snap);
+}
+
+#[test]
+fn stepping_applying_and_copying_the_mesh_do_not_allocate() {
+    for kind in [SolverKind::Newton, SolverKind::Xpbd] {
+        let mut cfg = SimConfig::default();
+        cfg.solver.kind = kind;
+        if kind == SolverKind::Xpbd {
+            cfg.solver.substeps = 8;
+            cfg.solver.iterations = 1;
+        }
+        let mut sim = Sim::new(cfg);
+        let (nv, nt) = sim.mesh_capacity();
+        let mut snap = MeshSnapshot::with_capacity(nv, nt);
+        let mut out = FrameOutput::default();
+        let n = count(|| exercise(&mut sim, &mut out, &mut snap));
+        assert_eq!(n, 0, "{kind:?}: {n} allocations in the steady state");
+        assert!(snap.is_finite() && !snap.triangles.is_empty());
+        assert!(sim.work_counter() > 0);
+        // A reset may allocate (new sheet); afterwards the steady state is again free.
+        sim.apply(Command::Reset);
+        let n = count(|| exercise(&mut sim, &mut out, &mut snap));
+        assert_eq!(n, 0, "{kind:?} after reset: {n} allocations");
+    }
+}
+
+#[test]
+fn the_counter_counts() {
+    // The test above would pass trivially if counting were broken.
+    let n = count(|| {
+        let v: Vec<u64> = (0..100).collect();
+        std::hint::black_box(v);
+    });
+    assert!(n >= 1);
+}
