@@ -39,20 +39,33 @@
 //!   thread, never with the audio thread (that one only pops and pushes lock-free queues);
 //! - [`Meters`]: relaxed atomics, read-only except for taking the held output peak (an atomic
 //!   swap);
-//! - [`ViewShared`]: the editor's own triple buffer, filled by the simulation only while the
-//!   window is open — its consumer end is behind a mutex that only the GUI thread and
+//! - [`ViewShared`]: the editor's own triple buffer, filled only while the window is open by
+//!   whoever steps the sheet (the simulation worker; in the host's offline mode the audio thread
+//!   itself, copying into preallocated storage without waiting) — its consumer end is behind a mutex that only the GUI thread and
 //!   `activate()` take, never the audio thread or the simulation worker — and the bounded
 //!   lock-free queue `gui_midi`, which the audio thread drains at the start of each block and
 //!   feeds to the engine exactly like MIDI notes (grab, release, reset).
 //!
 //! Nothing else of the engine is reachable from here, so the editor cannot block, lock or
-//! allocate on behalf of the audio thread. Opening and closing windows while audio runs is
-//! tested in `tests/tests/editor_open_close.rs` (threads, memory, audio continuity) and the
-//! window's content in `tests/tests/editor_screenshot.rs`.
+//! allocate on behalf of the audio thread. The gesture controls follow the same rule: the XY pad
+//! and every slider, switch and choice go through the `ParamSetter` (so the host records them as
+//! automation), and the grab pad and the Reset / Let go buttons push messages into `gui_midi`
+//! (the command path of MIDI notes).
+//!
+//! Tested in real hosts under Xvfb: `tests/tests/editor_open_close.rs` opens and closes the
+//! window 100 times while audio runs (threads, file descriptors, heap and RSS, audio going on),
+//! `tests/tests/editor_audio_unchanged.rs` checks that audio and sheet are bit-identical with
+//! and without windows opening and closing (offline mode), `tests/tests/editor_screenshot.rs`
+//! checks the window's content while a gesture is played on its controls, and
+//! `tests/tests/editor_window_size.rs` the window's size.
+//!
+//! ## Text, size and scale
 //!
 //! Text renders on every host because egui's default fonts are enabled in the workspace
-//! (`default_fonts`). The window is resizable (by the host, or by the corner handle) and scales
-//! with the display (sizes are logical pixels).
+//! (`default_fonts`). The window is resizable (by the host, or by the corner handle); its size
+//! is kept in logical pixels and saved with the project ([`window_size`]), and it is drawn at the
+//! display's scale (e.g. `Xft.dpi` on X11): on a 2× display the same logical size is twice the
+//! pixels, and the size reported to the host says so ([`shell`]).
 
 pub mod ballistics;
 pub mod db_picker;
@@ -311,6 +324,9 @@ impl NiceEguiApp for PapierEditor {
             return;
         };
         let setter = gui.param_setter();
+        if let Some(scale) = ui.ctx().native_pixels_per_point() {
+            self.session.set_display_scale(scale);
+        }
         let now_s = ui.input(|i| i.time);
         self.probe.begin();
         self.sheet_view.refresh(&self.parts.view);
@@ -357,6 +373,9 @@ impl NiceEguiApp for PapierEditor {
                     values.listener_dist_m,
                 );
                 self.probe.record("view", r.rect);
+                let overlays = self.sheet_view.overlays();
+                self.probe.record("view_legend", overlays.legend);
+                self.probe.record("view_map", overlays.map);
             });
         });
         self.messages_lost += lost;

@@ -45,7 +45,7 @@ impl RegionKind {
     /// Base (fully lit, front side) colour, sRGB.
     pub const fn colour(self) -> [u8; 3] {
         match self {
-            RegionKind::Flat => [242, 238, 226],
+            RegionKind::Flat => [245, 236, 212],
             RegionKind::Curved => [238, 206, 138],
             RegionKind::Singular => [232, 112, 92],
         }

@@ -8,6 +8,7 @@
 
 use egui::{Align2, Color32, FontId, Painter, Pos2, Rect, Stroke, pos2};
 
+use super::region::RegionKind;
 use super::room_scene::{HEAD_RADIUS_M, RoomScene};
 use super::sheet_view::{LISTENER_COLOUR, TABLE_COLOUR};
 use super::vec3::V3;
@@ -68,7 +69,8 @@ pub fn draw(painter: &Painter, rect: Rect, scene: &RoomScene, sheet_edges: &[[V3
             Stroke::new(3.0, Color32::from_rgb(120, 140, 170)),
         );
     }
-    let paper = Stroke::new(1.5, Color32::from_rgb(242, 238, 226));
+    let [r, g, b] = RegionKind::Flat.colour();
+    let paper = Stroke::new(1.5, Color32::from_rgb(r, g, b));
     for [a, b] in sheet_edges {
         painter.line_segment([t.to_map(*a), t.to_map(*b)], paper);
     }

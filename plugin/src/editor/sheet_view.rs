@@ -30,7 +30,7 @@ use crate::engine::{ViewFrame, ViewShared};
 /// Background of the view.
 pub const BACKGROUND: Color32 = Color32::from_rgb(30, 34, 42);
 /// Table top colour (a wood tone, far from the paper's hues).
-pub const TABLE_COLOUR: Color32 = Color32::from_rgb(112, 82, 58);
+pub const TABLE_COLOUR: Color32 = Color32::from_rgb(125, 80, 50);
 /// Wall colour.
 pub const WALL_COLOUR: Color32 = Color32::from_rgba_premultiplied(64, 78, 96, 200);
 /// Floor grid colour.
@@ -55,6 +55,26 @@ pub struct SheetView {
     screen: Vec<Option<(Pos2, f32)>>,
     clipped: Vec<V3>,
     map_edges: Vec<[V3; 2]>,
+    /// Where the last [`SheetView::show`] drew its legend and its top-view inset.
+    overlays: Overlays,
+}
+
+/// The parts of the view drawn over the scene, in window coordinates (logical pixels).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Overlays {
+    /// The colour legend (top left).
+    pub legend: Rect,
+    /// The room map inset (top right).
+    pub map: Rect,
+}
+
+impl Default for Overlays {
+    fn default() -> Self {
+        Self {
+            legend: Rect::NOTHING,
+            map: Rect::NOTHING,
+        }
+    }
 }
 
 impl Default for SheetView {
@@ -72,6 +92,7 @@ impl Default for SheetView {
             screen: Vec::new(),
             clipped: Vec::new(),
             map_edges: Vec::new(),
+            overlays: Overlays::default(),
         }
     }
 }
@@ -116,6 +137,11 @@ impl SheetView {
             boundary_edges(&self.frame.mesh.triangles, &mut self.boundary);
         }
         true
+    }
+
+    /// Where the last [`SheetView::show`] drew the legend and the room map over the scene.
+    pub fn overlays(&self) -> Overlays {
+        self.overlays
     }
 
     /// The frame on display (`valid` is false until the simulation sent one).
@@ -209,7 +235,7 @@ impl SheetView {
         if let (Some(wall), true) = (&scene.wall, wall_in_front) {
             self.polygon(&painter, &proj, wall, WALL_COLOUR.gamma_multiply(0.6));
         }
-        self.draw_overlay(&painter, rect);
+        self.overlays.legend = self.draw_overlay(&painter, rect);
         let map = Rect::from_min_size(
             pos2(rect.right() - MAP_SIZE_PX - 8.0, rect.top() + 8.0),
             egui::vec2(MAP_SIZE_PX, MAP_SIZE_PX),
@@ -224,6 +250,7 @@ impl SheetView {
             );
         }
         room_map::draw(&painter, map, &scene, &self.map_edges);
+        self.overlays.map = map;
         response
     }
 
@@ -317,21 +344,24 @@ impl SheetView {
         }
     }
 
-    fn draw_overlay(&self, painter: &egui::Painter, rect: Rect) {
+    /// Draws the legend and the status lines; returns the legend's rectangle.
+    fn draw_overlay(&self, painter: &egui::Painter, rect: Rect) -> Rect {
         let font = FontId::proportional(12.0);
         let text = Color32::from_gray(200);
         let mut y = rect.top() + 8.0;
+        let mut legend = Rect::from_min_size(pos2(rect.left() + 8.0, y), egui::Vec2::ZERO);
         for kind in RegionKind::ALL {
             let sw = Rect::from_min_size(pos2(rect.left() + 8.0, y + 2.0), egui::vec2(10.0, 10.0));
             let [r, g, b] = kind.colour();
             painter.rect_filled(sw, 2.0, Color32::from_rgb(r, g, b));
-            painter.text(
+            legend = legend.union(sw);
+            legend = legend.union(painter.text(
                 pos2(rect.left() + 24.0, y),
                 Align2::LEFT_TOP,
                 kind.label(),
                 font.clone(),
                 text,
-            );
+            ));
             y += 16.0;
         }
         for (colour, label) in [
@@ -344,13 +374,13 @@ impl SheetView {
                 4.0,
                 Color32::from_rgb(r, g, b),
             );
-            painter.text(
+            legend = legend.union(painter.text(
                 pos2(rect.left() + 24.0, y),
                 Align2::LEFT_TOP,
                 label,
                 font.clone(),
                 text,
-            );
+            ));
             y += 16.0;
         }
         let status = if self.frame.valid {
@@ -379,6 +409,7 @@ impl SheetView {
             font,
             Color32::from_gray(150),
         );
+        legend
     }
 }
 

@@ -7,7 +7,8 @@
 //! 1. **A saved window size.** The host asks the editor for its size before opening a window.
 //!    The shell keeps the egui editor's size in step with the persisted
 //!    [`super::window_size::EditorSize`]: when a project was loaded with another size, the next
-//!    window opens at that size (the egui editor is rebuilt while no window is open).
+//!    window opens at that size (the egui editor is rebuilt while no window is open). The size
+//!    reported to the host is that logical size times the display scale the window draws at.
 //! 2. **Knowing when the window closes.** nice-plug-egui 0.6 never calls
 //!    `NiceEguiApp::editor_closed`. The shell's window handle ([`ShellHandle`]), which the host
 //!    wrapper drops when it destroys the window, does the closing work: it tells the simulation
@@ -17,7 +18,7 @@
 //!    copying off and on.
 
 use std::error::Error;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use nice_plug::context::gui::GuiContext;
@@ -40,12 +41,30 @@ use super::{EditorParts, PapierEditor};
 pub struct Session {
     /// The host's GUI context while a window is open (set by the window's `build`).
     pub gui: Mutex<Option<GuiContext>>,
+    /// The display's scale (physical pixels per logical pixel) the last window was drawn at,
+    /// as `f32` bits; 0 until a window has drawn.
+    display_scale: AtomicU32,
 }
 
 impl Session {
     /// The GUI context, if a window is open.
     pub fn gui(&self) -> Option<GuiContext> {
         self.gui.lock().ok().and_then(|g| g.clone())
+    }
+
+    /// Notes the display's scale a window draws at.
+    pub fn set_display_scale(&self, scale: f32) {
+        if scale.is_finite() && scale > 0.0 {
+            self.display_scale.store(scale.to_bits(), Ordering::Relaxed);
+        }
+    }
+
+    /// The display's scale the last window was drawn at, if one has drawn.
+    pub fn display_scale(&self) -> Option<f32> {
+        match self.display_scale.load(Ordering::Relaxed) {
+            0 => None,
+            bits => Some(f32::from_bits(bits)),
+        }
     }
 
     /// Forgets the GUI context (the window closed).
@@ -158,7 +177,20 @@ impl Editor for EditorShell {
     }
 
     fn size(&self) -> NativeSize<u32> {
-        self.current().egui.size()
+        let g = self.current();
+        // nice-plug-egui 0.6 learns the display's scale only when the window is resized, so
+        // until then it reports logical pixels as physical ones; the scale the window draws at
+        // (egui's native pixels per point) is the one that holds.
+        match self.session.display_scale() {
+            Some(scale) => {
+                let (w, h) = logical_size(&g.state);
+                NativeSize::from_size(
+                    Size::Logical(LogicalSize::new(f64::from(w), f64::from(h))),
+                    f64::from(scale),
+                )
+            }
+            None => g.egui.size(),
+        }
     }
 
     fn resize_hint(&self) -> ResizeHint {
