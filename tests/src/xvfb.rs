@@ -50,13 +50,15 @@ impl Xvfb {
                 if let Ok(Some(_)) = child.try_wait() {
                     break; // Lost the race for this number: try the next one.
                 }
-                if std::os::unix::net::UnixStream::connect(&socket).is_ok() {
+                // A client connection (through the socket file, or the abstract socket a
+                // server started without root may be left with) means the server is ready.
+                if x11rb::connect(Some(&format!(":{number}"))).is_ok() {
                     return Ok(Self { child, number });
                 }
-                if t0.elapsed() > Duration::from_secs(10) {
+                if t0.elapsed() > Duration::from_secs(30) {
                     let _ = child.kill();
                     let _ = child.wait();
-                    return Err(format!("Xvfb :{number} did not come up in 10 s"));
+                    return Err(format!("Xvfb :{number} did not come up in 30 s"));
                 }
                 std::thread::sleep(Duration::from_millis(20));
             }
