@@ -292,10 +292,13 @@ fn hundred_editor_open_close_cycles_while_audio_runs() {
     // Memory: no window's worth left behind. An editor that was not freed would leave its egui
     // context (the parsed default fonts and their atlas alone are over 1 MiB), its GL context
     // and its view buffers: megabytes per cycle, hundreds over the run. What does remain is a
-    // steady ~80 KiB per window, the same whether a window stays open 0.1 s or 0.5 s (so it is
-    // per window, not per frame). Its source is not traced yet (suspected: X client or GL
-    // driver state kept per window connection); it is reported above. The bounds leave room
-    // for it and catch anything the size of an editor.
+    // steady ~80 KiB per window, the same whether a window stays open 0.1 s or 0.5 s: baseview
+    // 0.4.2 (under nice-plug-egui) compiles an xkbcommon keymap for each window and never
+    // releases it (`XkbcommonState::new` keeps no reference to the keymap from
+    // `xkb_x11_keymap_new_from_device` and does not unref it). Traced with glibc's mtrace over
+    // one window: what was not freed was allocated in libxkbcommon(-x11), nothing in the
+    // plugin. It is reported above; the bound leaves room for it and catches anything the size
+    // of an editor.
     assert!(
         heap_growth < (CYCLES as f64) * 128.0 * 1024.0,
         "heap grew by {:.2} MiB over {CYCLES} cycles ({:.0} KiB per window)",
