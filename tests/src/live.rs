@@ -164,17 +164,28 @@ fn make_realtime() -> bool {
     unsafe { pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0 }
 }
 
+/// How the live audio thread runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LiveMode {
+    /// As a host's real-time audio thread: real-time scheduling if the system grants it.
+    RealTime,
+    /// As a host rendering offline while the user watches: ordinary scheduling (the plugin
+    /// then steps the sheet on this thread, which may take longer than a block), output kept.
+    OfflineRecorded,
+}
+
 /// The audio thread: blocks of [`LIVE_BLOCK`] samples at `sample_rate` pace with `gesture`,
 /// until `live.stop`. Call it on a thread of its own.
 pub fn run(
     stopped: StoppedPluginAudioProcessor<TestHost>,
     sample_rate: f64,
     gesture: &Gesture,
-    record: bool,
+    mode: LiveMode,
     live: &Live,
 ) -> (StoppedPluginAudioProcessor<TestHost>, LiveStats) {
+    let record = mode == LiveMode::OfflineRecorded;
     let mut stats = LiveStats {
-        realtime: make_realtime(),
+        realtime: mode == LiveMode::RealTime && make_realtime(),
         ..LiveStats::default()
     };
     let mut proc = stopped.start_processing().expect("start_processing");

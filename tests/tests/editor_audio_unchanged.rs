@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 
 use papier_tests::clap::{Bundle, serial};
 use papier_tests::clap_gui::{ParentWindow, close_editor, open_editor};
-use papier_tests::live::{self, Gesture, LIVE_BLOCK, Live, StopOnDrop};
+use papier_tests::live::{self, Gesture, LIVE_BLOCK, Live, LiveMode, StopOnDrop};
 use papier_tests::paths;
 use papier_tests::xvfb::Xvfb;
 
@@ -55,7 +55,15 @@ fn audio_with_the_editor_opening_and_closing_equals_audio_without_it() {
     let parent = ParentWindow::new(&x.display(), 800, 600).expect("host window");
     let live = Live::default();
     let (stopped, run) = std::thread::scope(|s| {
-        let audio = s.spawn(|| live::run(processor, SAMPLE_RATE, &gesture, true, &live));
+        let audio = s.spawn(|| {
+            live::run(
+                processor,
+                SAMPLE_RATE,
+                &gesture,
+                LiveMode::OfflineRecorded,
+                &live,
+            )
+        });
         let stopper = StopOnDrop(&live);
         for i in 0..CYCLES {
             let before = live.blocks.load(Ordering::Acquire);

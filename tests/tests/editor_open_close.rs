@@ -31,7 +31,7 @@ use std::time::{Duration, Instant};
 
 use papier_tests::clap::{Bundle, Instance, serial};
 use papier_tests::clap_gui::{ParentWindow, close_editor, open_editor};
-use papier_tests::live::{self, Gesture, LIVE_BLOCK, Live, StopOnDrop};
+use papier_tests::live::{self, Gesture, LIVE_BLOCK, Live, LiveMode, StopOnDrop};
 use papier_tests::paths;
 use papier_tests::screenshot::{Image, PixelRect};
 use papier_tests::xvfb::Xvfb;
@@ -193,7 +193,8 @@ fn hundred_editor_open_close_cycles_while_audio_runs() {
     let mut painted = Vec::new();
     let mut base_threads = Vec::new();
     let (stopped, audio) = std::thread::scope(|s| {
-        let audio = s.spawn(|| live::run(processor, SAMPLE_RATE, &gesture, false, &live));
+        let audio =
+            s.spawn(|| live::run(processor, SAMPLE_RATE, &gesture, LiveMode::RealTime, &live));
         let stopper = StopOnDrop(&live);
         assert!(
             live.wait_for_blocks(0, 20, AUDIO_PATIENCE),
