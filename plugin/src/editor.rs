@@ -39,12 +39,14 @@
 //!   thread, never with the audio thread (that one only pops and pushes lock-free queues);
 //! - [`Meters`]: relaxed atomics, read-only except for taking the held output peak (an atomic
 //!   swap);
-//! - [`ViewShared`]: the editor's own triple buffer, filled only while the window is open by
-//!   whoever steps the sheet (the simulation worker; in the host's offline mode the audio thread
-//!   itself, copying into preallocated storage without waiting) — its consumer end is behind a mutex that only the GUI thread and
-//!   `activate()` take, never the audio thread or the simulation worker — and the bounded
-//!   lock-free queue `gui_midi`, which the audio thread drains at the start of each block and
-//!   feeds to the engine exactly like MIDI notes (grab, release, reset).
+//! - [`ViewShared`], its triple buffer: the editor's own, filled only while the window is open
+//!   by whoever steps the sheet (the simulation worker; in the host's offline mode the audio
+//!   thread itself, copying into preallocated storage without waiting). Its consumer end is
+//!   behind a mutex that only the GUI thread and `activate()` take, never the audio thread or
+//!   the simulation worker;
+//! - [`ViewShared`], its queue `gui_midi`: bounded and lock-free; the audio thread drains it at
+//!   the start of each block and feeds it to the engine exactly like MIDI notes (grab, release,
+//!   reset).
 //!
 //! Nothing else of the engine is reachable from here, so the editor cannot block, lock or
 //! allocate on behalf of the audio thread. The gesture controls follow the same rule: the XY pad

@@ -14,8 +14,9 @@
 //!   (see the bounds below for the small per-window growth that remains);
 //! - **audio**: it never stops — blocks keep being processed while each window is open and
 //!   while it closes — every `process()` call succeeds and every sample is finite; the gesture
-//!   moves the sheet. That the editor does not change a single sample is checked, deterministically,
-//!   by `editor_audio_unchanged.rs` (offline mode, where output is a pure function of input);
+//!   moves the sheet. That the editor does not change a single sample is checked,
+//!   deterministically, by `editor_audio_unchanged.rs` (offline mode, where output is a pure
+//!   function of input);
 //! - **the editor draws**: every 25th cycle, the host window shows the editor's pixels.
 //!
 //! How long `process()` calls take and whether blocks came late is reported, not asserted: it
@@ -257,8 +258,8 @@ fn hundred_editor_open_close_cycles_while_audio_runs() {
     let block_time = LIVE_BLOCK as f64 / SAMPLE_RATE;
     eprintln!(
         "editor open/close: {CYCLES} cycles in {:.1} s; threads {} ({:?}); heap {:.2} → {:.2} MiB \
-         (growth {:+.3} MiB, {:.0} KiB per window); RSS {:.1} → {:.1} MiB (growth {:+.2} MiB); audio {} blocks of \
-         {LIVE_BLOCK} in {:.1} s ({:.0} at real time), real-time priority {}, longest process() \
+         (growth {:+.3} MiB, {:.0} KiB per window); RSS {:.1} → {:.1} MiB (growth {:+.2} MiB); \
+         audio {} blocks of {LIVE_BLOCK} in {:.1} s ({:.0} at real time), real-time priority {}, longest process() \
          {:.3} ms (block {:.3} ms), {} late, peak {:.4}; painted {:?}",
         wall.as_secs_f64(),
         base_threads.len(),
