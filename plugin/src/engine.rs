@@ -466,9 +466,7 @@ impl Engine {
             }
             peak = peak.max(s.abs());
         }
-        self.meters
-            .peak_bits
-            .store(peak.to_bits(), Ordering::Relaxed);
+        self.meters.record_peak(peak);
         self.clock += n as u64;
         if let Host::Threaded(t) = &self.host {
             // The worker polls this clock; no syscall (unpark) from the audio thread.

@@ -79,7 +79,6 @@ pub struct Papier {
     params: Arc<PapierParams>,
     meters: Arc<Meters>,
     view: Arc<ViewShared>,
-    editor_state: Arc<nice_plug_egui::EguiEditorState>,
     /// The running engine (between `activate()` and `deactivate()`).
     engine: Option<Engine>,
     /// The sheet while no engine runs, with the store generation it is based on and the
@@ -99,7 +98,6 @@ impl Default for Papier {
             params: Arc::new(PapierParams::default()),
             meters: Arc::new(Meters::default()),
             view: Arc::new(ViewShared::default()),
-            editor_state: editor::default_state(),
             engine: None,
             parked: None,
             db: Arc::new(SoundDb::empty()),
@@ -147,7 +145,7 @@ impl Plugin for Papier {
     const MIDI_INPUT: MidiConfig = MidiConfig::MidiCCs;
     const SAMPLE_ACCURATE_AUTOMATION: bool = true;
 
-    type Editor = nice_plug_egui::EguiEditor<editor::PapierEditor>;
+    type Editor = editor::EditorShell;
     type SysExMessage = ();
     type BackgroundTask = ();
 
@@ -156,12 +154,7 @@ impl Plugin for Papier {
     }
 
     fn editor(&mut self, _async_executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
-        editor::create(
-            self.params.clone(),
-            self.meters.clone(),
-            self.view.clone(),
-            self.editor_state.clone(),
-        )
+        editor::create(self.params.clone(), self.meters.clone(), self.view.clone())
     }
 
     fn activate(

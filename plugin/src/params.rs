@@ -18,7 +18,8 @@
 //!
 //! Besides the parameters, the saved state carries the sheet itself ([`crate::state`]) under the
 //! persisted key `sheet`, the user sound database folder ([`crate::db_loader`]) under
-//! `db_path`, and a state format version under `state_version`.
+//! `db_path`, the editor window's size ([`crate::editor::window_size`]) under `editor_size`, and
+//! a state format version under `state_version`.
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicU32;
@@ -28,6 +29,7 @@ use sim_core::room::{TABLE_HEIGHT_RANGE_CM, WALL_DIST_RANGE_CM};
 use sim_core::{GestureParam, Material, RoomConfig, SheetSize};
 
 use crate::db_loader::DbLoader;
+use crate::editor::window_size::EditorSize;
 use crate::engine::ParamValues;
 use crate::state::SheetStore;
 
@@ -380,6 +382,9 @@ pub struct PapierParams {
     /// The user sound database folder (`null` = the embedded default), and its loader.
     #[persist = "db_path"]
     pub db: Arc<DbLoader>,
+    /// The editor window's size, logical pixels ([`crate::editor::window_size`]).
+    #[persist = "editor_size"]
+    pub editor_size: Arc<EditorSize>,
 }
 
 impl Default for PapierParams {
@@ -394,6 +399,7 @@ impl Default for PapierParams {
             state_version: Arc::new(AtomicU32::new(STATE_VERSION)),
             sheet_store: Arc::new(SheetStore::default()),
             db: Arc::new(DbLoader::default()),
+            editor_size: Arc::new(EditorSize::default()),
         }
     }
 }

@@ -35,6 +35,11 @@ impl HostHandlers for TestHost {
     type Shared<'a> = TestShared;
     type MainThread<'a> = ();
     type AudioProcessor<'a> = ();
+
+    fn declare_extensions(builder: &mut HostExtensions<Self>, _shared: &Self::Shared<'_>) {
+        // Hosts that show plugin windows offer the GUI extension (see `crate::clap_gui`).
+        builder.register::<clack_extensions::gui::HostGui>();
+    }
 }
 
 /// A parameter as the host sees it.
@@ -99,6 +104,26 @@ impl HostEvent {
             | HostEvent::NoteOn { at, .. }
             | HostEvent::NoteOff { at, .. }
             | HostEvent::Param { at, .. } => at,
+        }
+    }
+
+    /// Adds the event to a block's input events at `offset` samples into the block.
+    pub fn push_to(&self, ev: &mut EventBuffer, offset: u32) {
+        match *self {
+            HostEvent::Midi { data, .. } => ev.push(&MidiEvent::new(offset, 0, data)),
+            HostEvent::NoteOn { key, velocity, .. } => ev.push(&NoteOnEvent::new(
+                offset,
+                Pckn::from_raw(0, 0, i16::from(key), -1),
+                velocity,
+            )),
+            HostEvent::NoteOff { key, .. } => ev.push(&NoteOffEvent::new(
+                offset,
+                Pckn::from_raw(0, 0, key, -1),
+                0.0,
+            )),
+            HostEvent::Param { id, value, .. } => {
+                ev.push(&ParamValueEvent::new(offset, id, Pckn::match_all(), value))
+            }
         }
     }
 }
@@ -313,6 +338,22 @@ impl Instance {
         }
     }
 
+    /// The plugin's main-thread handle (for extensions the helpers do not wrap).
+    pub fn plugin_handle(&mut self) -> PluginMainThreadHandle<'_> {
+        self.inst.plugin_handle()
+    }
+
+    /// Takes the audio processor of an [`Instance::activate`]d plugin, to run it on a thread of
+    /// the caller's (give it back with [`Instance::put_processor`] before deactivating).
+    pub fn take_processor(&mut self) -> Option<StoppedPluginAudioProcessor<TestHost>> {
+        self.active.take()
+    }
+
+    /// Gives back a processor taken with [`Instance::take_processor`].
+    pub fn put_processor(&mut self, processor: StoppedPluginAudioProcessor<TestHost>) {
+        self.active = Some(processor);
+    }
+
     /// Runs pending main-thread callbacks (nice-plug posts GUI/param rescans there).
     pub fn idle(&mut self) {
         self.inst.call_on_main_thread_callback();
@@ -367,20 +408,7 @@ impl Instance {
                     let mut ev = EventBuffer::new();
                     while next < sorted.len() && sorted[next].at() < pos + n {
                         let t = (sorted[next].at().max(pos) - pos) as u32;
-                        match sorted[next] {
-                            HostEvent::Midi { data, .. } => ev.push(&MidiEvent::new(t, 0, data)),
-                            HostEvent::NoteOn { key, velocity, .. } => ev.push(&NoteOnEvent::new(
-                                t,
-                                Pckn::from_raw(0, 0, i16::from(key), -1),
-                                velocity,
-                            )),
-                            HostEvent::NoteOff { key, .. } => {
-                                ev.push(&NoteOffEvent::new(t, Pckn::from_raw(0, 0, key, -1), 0.0))
-                            }
-                            HostEvent::Param { id, value, .. } => {
-                                ev.push(&ParamValueEvent::new(t, id, Pckn::match_all(), value))
-                            }
-                        }
+                        sorted[next].push_to(&mut ev, t);
                         next += 1;
                     }
                     let mut out_ev = EventBuffer::new();

@@ -59,6 +59,14 @@ pub fn papier_render() -> PathBuf {
     )
 }
 
+/// The release standalone application (`target/release/papier`).
+pub fn standalone() -> PathBuf {
+    must_exist(
+        target_dir().join("release").join("papier"),
+        "cargo build --release -p papier --features standalone --bin papier",
+    )
+}
+
 /// A fresh scratch directory under `target/test-scratch/NAME`.
 pub fn scratch(name: &str) -> PathBuf {
     let d = target_dir().join("test-scratch").join(name);

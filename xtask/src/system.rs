@@ -10,8 +10,9 @@ use anyhow::{Context, bail};
 /// Packages needed to build the standalone application (ALSA and JACK headers).
 pub const STANDALONE_PACKAGES: &[&str] = &["libasound2-dev", "libjack-jackd2-dev", "pkg-config"];
 
-/// Packages needed by the headless GUI test (X server, screenshot tool).
-pub const GUI_TEST_PACKAGES: &[&str] = &["xvfb", "xauth", "imagemagick", "x11-utils"];
+/// Packages needed by the headless GUI tests (X server, window info, screenshots, synthetic
+/// mouse input).
+pub const GUI_TEST_PACKAGES: &[&str] = &["xvfb", "xauth", "imagemagick", "x11-utils", "xdotool"];
 
 /// Python packages of the VST3 host test.
 pub const PYTHON_PACKAGES: &[&str] = &["pedalboard==0.9.26", "numpy", "mido"];

@@ -38,6 +38,8 @@ pub struct Meters {
     pub c_mean_pct_bits: AtomicU32,
     /// Output peak of the last block (f32 bits).
     pub peak_bits: AtomicU32,
+    /// Largest output peak since the editor last took it (f32 bits; see [`Meters::record_peak`]).
+    pub peak_hold_bits: AtomicU32,
     /// Is the worker thread running?
     pub worker_running: AtomicBool,
     /// Worker threads started since the plugin was created.
@@ -71,6 +73,22 @@ impl Meters {
         f32::from_bits(self.peak_bits.load(Ordering::Relaxed))
     }
 
+    /// Records the output peak of a block (audio thread: two lock-free atomic operations). The
+    /// editor repaints less often than blocks arrive, so besides the last block's peak the
+    /// largest peak since the editor last looked is kept ([`Meters::take_peak_hold`]).
+    pub fn record_peak(&self, peak: f32) {
+        let peak = if peak.is_finite() { peak.abs() } else { 0.0 };
+        self.peak_bits.store(peak.to_bits(), Ordering::Relaxed);
+        // Non-negative finite floats order like their bit patterns.
+        self.peak_hold_bits
+            .fetch_max(peak.to_bits(), Ordering::Relaxed);
+    }
+
+    /// The largest output peak since the previous call (editor).
+    pub fn take_peak_hold(&self) -> f32 {
+        f32::from_bits(self.peak_hold_bits.swap(0, Ordering::Relaxed))
+    }
+
     /// Records one frame's sound input (for the events-per-second meters).
     pub fn record_sound(&self, sound: &sim_core::SoundFrame) {
         self.crumple_events
@@ -100,5 +118,23 @@ impl Meters {
     /// Smoothed audio-thread load (1.0 = the whole block duration).
     pub fn audio_load(&self) -> f32 {
         f32::from_bits(self.audio_load_bits.load(Ordering::Relaxed))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn peak_hold_keeps_the_largest_peak_until_taken() {
+        let m = Meters::default();
+        m.record_peak(0.25);
+        m.record_peak(0.5);
+        m.record_peak(0.125);
+        assert_eq!(m.peak(), 0.125, "the last block's peak");
+        assert_eq!(m.take_peak_hold(), 0.5, "the largest since the last look");
+        assert_eq!(m.take_peak_hold(), 0.0);
+        m.record_peak(f32::NAN);
+        assert_eq!(m.take_peak_hold(), 0.0);
     }
 }
