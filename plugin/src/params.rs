@@ -45,6 +45,9 @@ pub const GAIN_RANGE_DB: (f32, f32) = (-60.0, 12.0);
 /// the output's soft clipper with crumple units at 0 dB.
 pub const DEFAULT_FRICTION_DB: f32 = -12.0;
 
+/// Default output gain, dB: 6 dB of headroom for the bursts of a fast crumple's release.
+pub const DEFAULT_OUTPUT_DB: f32 = -6.0;
+
 /// Range of the listener distance, metres.
 pub const LISTENER_DIST_RANGE_M: (f32, f32) = (0.2, 5.0);
 
@@ -395,7 +398,7 @@ impl Default for PapierParams {
             room: RoomParams::default(),
             listener: ListenerParams::default(),
             mix: MixParams::default(),
-            gain_db: gain_param("Output Gain", 0.0),
+            gain_db: gain_param("Output Gain", DEFAULT_OUTPUT_DB),
             state_version: Arc::new(AtomicU32::new(STATE_VERSION)),
             sheet_store: Arc::new(SheetStore::default()),
             db: Arc::new(DbLoader::default()),

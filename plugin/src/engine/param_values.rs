@@ -74,7 +74,7 @@ impl Default for ParamValues {
             mix_crumple_db: 0.0,
             mix_friction_db: crate::params::DEFAULT_FRICTION_DB,
             mix_tear_db: 0.0,
-            gain_db: 0.0,
+            gain_db: crate::params::DEFAULT_OUTPUT_DB,
         }
     }
 }
