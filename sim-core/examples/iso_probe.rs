@@ -18,11 +18,11 @@ fn main() {
                 println!("f{k} {e:?}");
             }
         }
-        if k % 50 == 0 {
+        if k % 25 == 0 {
             let g = sim.geometry();
             let i = g.isometry;
             println!(
-                "f{k} c_mean {:.4} sing {} flat {} curved {} creases {} rulings {} cones {} maxflatc {:.5} iso it {} {} C {:.3e}->{:.3e} maxd {:.2e} meand {:.2e} ev {:?}",
+                "f{k} c_mean {:.4} sing {} flat {} curved {} creases {} rulings {} cones {} maxflatc {:.5} maxcurvc {:.5} iso it {} {} C {:.3e}->{:.3e} maxd {:.2e} meand {:.2e} ev {:?}",
                 out.stats.c_mean_pct,
                 out.stats.num_singular,
                 g.num_flat_regions,
@@ -31,6 +31,7 @@ fn main() {
                 g.rulings.len(),
                 g.cones.len(),
                 g.max_flat_compression,
+                g.max_curved_compression,
                 i.phase1_iters,
                 i.phase2_iters,
                 i.c_before,

@@ -13,6 +13,9 @@
 //!    (m̄_e: in-plane unit normal of the pattern edge). Its large eigenvalue κ_t is the bending
 //!    curvature; the eigenvector of the small one is the local **ruling direction** r̄_t; the
 //!    bend across the triangle is β_t = |κ_t|·h_t (h_t: equilateral edge of the same area).
+//!    An edge much sharper than the triangle's two others ([`CREASE_DOMINANCE`]) is a crease
+//!    bounding a flat facet and is left out of that facet's shape operator, so a sharp fold
+//!    between two flat parts is seen as the seeds see it: two flat regions and a crease.
 //! 2. **Flat / curved classification with hysteresis** (§3.1, §3.6): a flat triangle turns
 //!    curved when β_t > θ_high = θ0 = 0.01 rad, a curved one turns flat again only when
 //!    β_t < θ_low = θ0/10 (P 792, T 965). Flat regions are the connected sets of flat triangles
@@ -24,12 +27,25 @@
 //!    and a curved region whose triangles all fall below θ_low becomes flat again (P 794–797).
 //! 3. **Compression analysis** (§3.2): the stretch tensor of every flat triangle
 //!    ([`stretch`]); the most compressed one T_comp with c_t = 1 − λ_min > ε_c starts a pass.
+//!    **Addition (impl. choice):** a *curved* triangle compressed along its own, well-defined
+//!    ruling direction (|κ_small/κ_big| < [`ANISO_MAX`], compression direction within
+//!    [`CONFLICT_RAD`] of the ruling) by more than `curved_eps_factor`·ε_c also starts a
+//!    pass, as a case A conflict in place (singular point about its most bent edge). The
+//!    seeds never need this because their curved regions are developable by construction;
+//!    on our fixed S_P a curved region compressed along its generators is exactly the
+//!    situation that buckles into a d-cone (P 685–692). Triangles touching a held vertex do
+//!    not start passes, nor do their neighbours (the hand's constraint strains them), and a singular vertex is never
+//!    placed on or next to a held vertex (the pinch).
 //! 4. **Imaginary-ruling propagation** (§3.3, Appendix A): from T_comp along ±v⊥ in the
 //!    pattern ([`walk`]), through flat triangles of the same region, until a border: the sheet
 //!    boundary (free border, case b), a crease (case c), or a curved region. A curved region
 //!    whose own rulings are parallel to v⊥ (within [`CONFLICT_RAD`]) is simply extended; one
 //!    whose rulings conflict continues the propagation through it to the first ruling bent
-//!    beyond θ0 (e_sing, case d, P 693–704). Border types: {∂S, ∂S} → a generalized cylinder
+//!    beyond θ_sing (e_sing, case d, P 693–704). θ_sing is θ0 scaled by the ratio of the S_P
+//!    edge to the seeds' ruling spacing 1/ρ_bound (the dihedral between two of our triangles
+//!    spans that many of the seeds' rulings); a curved region counts as conflicting only if it
+//!    is bent beyond θ_sing with a well-defined ruling direction (a weakly bent or twisted one
+//!    simply grows). Border types: {∂S, ∂S} → a generalized cylinder
 //!    (rulings ∥ v⊥, Fig. 7); {∂S, singular} → a cone through the new singular point
 //!    (Fig. 8); {singular, singular} → degenerate (Fig. 9). The strip's triangles become curved
 //!    (the new curved region). Up to [`GeometryConfig::max_passes`] passes per frame (digest
@@ -142,6 +158,13 @@ pub const RIDGE_RAD: f64 = 0.5;
 /// Largest angle between v⊥ and a curved region's rulings for the propagation to merge into
 /// it instead of conflicting (impl. choice), radians.
 pub const CONFLICT_RAD: f64 = 0.35;
+/// A triangle's ruling direction is well defined when its small principal curvature is
+/// below this fraction of the large one (|κ_small/κ_big|; a twisted, saddle-like triangle has
+/// ≈ 1 and has no ruling to conflict with).
+pub const ANISO_MAX: f64 = 0.3;
+/// An edge whose |θ| exceeds this × the sum of the triangle's two other |θ| (plus θ0) is a
+/// crease bounding a flat facet, not part of the facet's curvature (impl. choice).
+pub const CREASE_DOMINANCE: f64 = 4.0;
 /// Frames a triangle that started a propagation pass waits before starting another.
 pub const REFRACTORY_FRAMES: u64 = 20;
 /// A vertex jump above this is reported as an event, metres.
@@ -165,6 +188,9 @@ pub struct GeometryConfig {
     pub max_passes: u32,
     /// New singular vertices per frame, at most.
     pub max_new_singular_per_frame: u32,
+    /// A curved triangle compressed along its own rulings starts a pass only when its
+    /// compression exceeds this × ε_c (impl. choice, see the module doc).
+    pub curved_eps_factor: f64,
     /// The isometry optimizer.
     pub isometry: IsometryConfig,
 }
@@ -177,6 +203,7 @@ impl Default for GeometryConfig {
             sigma_m: None,
             max_passes: 4,
             max_new_singular_per_frame: 1,
+            curved_eps_factor: 10.0,
             isometry: IsometryConfig::default(),
         }
     }
@@ -190,6 +217,9 @@ impl GeometryConfig {
         c.sigma_m = c.sigma_m.filter(|s| s.is_finite() && *s >= 0.0 && *s < 0.1);
         c.max_passes = c.max_passes.min(64);
         c.max_new_singular_per_frame = c.max_new_singular_per_frame.min(16);
+        if !(c.curved_eps_factor.is_finite() && c.curved_eps_factor >= 1.0) {
+            c.curved_eps_factor = Self::default().curved_eps_factor;
+        }
         let i = &mut c.isometry;
         i.phase1_max_iters = i.phase1_max_iters.min(200);
         i.phase2_max_iters = i.phase2_max_iters.min(1000);
@@ -434,6 +464,8 @@ pub struct GeometryFrame {
     pub num_creases: u32,
     /// Largest compression c_t over flat triangles this frame.
     pub max_flat_compression: f64,
+    /// Largest compression c_t over curved triangles compressed along their rulings.
+    pub max_curved_compression: f64,
     /// Largest vertex displacement made by the layer this frame, metres.
     pub max_vertex_jump_m: f64,
     /// Boundary vertices whose junction status changed this frame.
@@ -512,12 +544,15 @@ pub struct GeometryLayer {
     sigma_m: f64,
     l_paper_m: f64,
     spacing_m: f64,
+    theta_sing: f64,
     out: GeometryFrame,
     curved: Vec<bool>,
     prev_curved: Vec<bool>,
     refractory_until: Vec<u64>,
     is_singular: Vec<bool>,
+    near_held: Vec<bool>,
     tri_kappa: Vec<f64>,
+    tri_aniso: Vec<f64>,
     tri_ruling: Vec<V2>,
     tri_bend: Vec<f64>,
     tri_normal: Vec<V3>,
@@ -594,12 +629,15 @@ impl GeometryLayer {
             sigma_m: 0.0,
             l_paper_m: ext.x.max(ext.y).max(1e-6),
             spacing_m,
+            theta_sing: THETA0_RAD * (spacing_m * RHO_BOUND_PER_M).max(1.0),
             out,
             curved: vec![false; nt],
             prev_curved: vec![false; nt],
             refractory_until: vec![0; nt],
             is_singular: vec![false; nv],
+            near_held: vec![false; nv],
             tri_kappa: vec![0.0; nt],
+            tri_aniso: vec![1.0; nt],
             tri_ruling: vec![V2::x(); nt],
             tri_bend: vec![0.0; nt],
             tri_normal: vec![V3::z(); nt],
@@ -627,7 +665,19 @@ impl GeometryLayer {
         for &v in &sp.singular {
             s.is_singular[v as usize] = true;
         }
+        s.refresh(sp);
         s
+    }
+
+    /// Publishes the partition, rulings and cones of the current shape without changing
+    /// anything (a new or restored sheet, before its first awake frame).
+    fn refresh(&mut self, sp: &PhysMesh) {
+        self.analyse_shape(sp);
+        self.partition(sp);
+        self.trace_rulings(sp);
+        self.fit_cones();
+        self.out.events.clear();
+        self.out.junction_moves = 0;
     }
 
     /// Applies a material's ε_c and σ (unless overridden by the configuration).
@@ -744,6 +794,7 @@ impl GeometryLayer {
         }
         self.prev_curved.copy_from_slice(&self.curved);
         sync_sg_singular(sg, sp);
+        self.refresh(sp);
         Ok(())
     }
 
@@ -812,10 +863,26 @@ impl GeometryLayer {
         for t in 0..sp.num_triangles() {
             let tri = sp.triangles[t];
             let area = sp.tri_rest[t].area_m2;
+            // A crease: one edge much sharper than the other two bounds a flat facet; it is
+            // left out of the facet's own curvature (the seeds' flat regions separated by an
+            // edge between two flat regions, T 740).
+            let mut ths = [0.0f64; 3];
+            for (k, th_k) in ths.iter_mut().enumerate() {
+                let e = topo.he_edge[3 * t + k] as usize;
+                if !topo.edges[e].is_boundary() {
+                    *th_k = th[e];
+                }
+            }
+            let kmax = (0..3)
+                .max_by(|&i, &j| ths[i].abs().total_cmp(&ths[j].abs()))
+                .unwrap_or(0);
+            let others: f64 = (0..3).filter(|&k| k != kmax).map(|k| ths[k].abs()).sum();
+            let crease_k = (ths[kmax].abs() >= THETA0_RAD
+                && ths[kmax].abs() > CREASE_DOMINANCE * others + THETA0_RAD)
+                .then_some(kmax);
             let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
             for k in 0..3 {
-                let e = topo.he_edge[3 * t + k] as usize;
-                if topo.edges[e].is_boundary() {
+                if Some(k) == crease_k || ths[k] == 0.0 {
                     continue;
                 }
                 let p = sp.pattern[tri[k] as usize];
@@ -826,7 +893,7 @@ impl GeometryLayer {
                     continue;
                 }
                 let m = V2::new(d.y, -d.x) / len;
-                let w = th[e] * len / (2.0 * area);
+                let w = ths[k] * len / (2.0 * area);
                 a += w * m.x * m.x;
                 b += w * m.x * m.y;
                 c += w * m.y * m.y;
@@ -838,6 +905,12 @@ impl GeometryLayer {
                 (hi, vlo)
             };
             self.tri_kappa[t] = kappa;
+            let small = if lo.abs() >= hi.abs() { hi } else { lo };
+            self.tri_aniso[t] = if kappa != 0.0 {
+                (small / kappa).abs()
+            } else {
+                1.0
+            };
             self.tri_ruling[t] = ruling;
             self.tri_bend[t] = kappa.abs() * self.tri_h[t];
             let x = tri.map(|i| sp.pos[i as usize]);
@@ -873,21 +946,51 @@ impl GeometryLayer {
     ) {
         let mut new_singular = 0u32;
         self.out.max_flat_compression = 0.0;
+        for (v, n) in self.near_held.iter_mut().enumerate() {
+            *n = fixed[v];
+        }
+        for e in &sp.topo.edges {
+            let (a, b) = (e.v[0] as usize, e.v[1] as usize);
+            if fixed[a] || fixed[b] {
+                self.near_held[a] = true;
+                self.near_held[b] = true;
+            }
+        }
+        let cos_along = CONFLICT_RAD.cos();
+        self.out.max_curved_compression = 0.0;
         for pass in 0..self.cfg.max_passes {
-            // Most compressed flat triangle.
+            // Most compressed flat triangle, or curved triangle compressed along its own
+            // rulings (a conflict with its ruling family, case A).
             let mut best: Option<(f64, usize, stretch::Stretch)> = None;
             for t in 0..sp.num_triangles() {
-                if self.curved[t] {
-                    continue;
-                }
                 let x = sp.triangles[t].map(|i| sp.pos[i as usize]);
                 let s = stretch::stretch_tensor(&x, &sp.tri_rest[t].dm_inv);
                 let c = s.compression();
-                if pass == 0 && c.is_finite() {
+                if !c.is_finite() {
+                    continue;
+                }
+                // Triangles in a hand's pinch (touching a held vertex or one of its
+                // neighbours) are strained by the hard constraint itself.
+                if sp.triangles[t].iter().any(|&v| self.near_held[v as usize]) {
+                    continue;
+                }
+                if self.curved[t] {
+                    // Compression along a well-defined ruling direction (v ∥ r̄_t).
+                    if self.tri_aniso[t] > ANISO_MAX
+                        || s.v.dot(&self.tri_ruling[t]).abs() < cos_along
+                    {
+                        continue;
+                    }
+                    if pass == 0 {
+                        self.out.max_curved_compression = self.out.max_curved_compression.max(c);
+                    }
+                    if c <= self.eps_c * self.cfg.curved_eps_factor {
+                        continue;
+                    }
+                } else if pass == 0 {
                     self.out.max_flat_compression = self.out.max_flat_compression.max(c);
                 }
                 if c > self.eps_c
-                    && c.is_finite()
                     && self.refractory_until[t] <= frame
                     && best.is_none_or(|b| c > b.0)
                 {
@@ -897,7 +1000,26 @@ impl GeometryLayer {
             let Some((c_t, t_comp, s)) = best else {
                 break;
             };
-            let borders = self.propagate(sp, t_comp as u32, s.v_perp);
+            let borders = if self.curved[t_comp] {
+                // Compression along the rulings of a curved region: the singular point goes
+                // about its most bent edge (the first strongly bent ruling, P 700–704).
+                self.strip.clear();
+                self.strip.push(t_comp as u32);
+                let mut e_best: Option<(f64, u32)> = None;
+                for k in 0..3 {
+                    let e = sp.topo.he_edge[3 * t_comp + k];
+                    let th = self.out.edge_dihedral_rad[e as usize].abs();
+                    if !sp.topo.edges[e as usize].is_boundary() && e_best.is_none_or(|b| th > b.0) {
+                        e_best = Some((th, e));
+                    }
+                }
+                match e_best {
+                    Some((th, e)) if th > self.theta_sing => [Border::InCurved(e), Border::None],
+                    _ => [Border::None, Border::None],
+                }
+            } else {
+                self.propagate(sp, t_comp as u32, s.v_perp)
+            };
             let mut made = 0;
             for b in borders {
                 let (edge, case) = match b {
@@ -914,11 +1036,12 @@ impl GeometryLayer {
                 }
             }
             let cylinder = borders.iter().all(|b| *b == Border::Free);
+            let was_curved = self.curved[t_comp];
             for &t in &self.strip {
                 self.curved[t as usize] = true;
                 self.refractory_until[t as usize] = frame + REFRACTORY_FRAMES;
             }
-            if made == 0 {
+            if made == 0 && !was_curved {
                 let n = self.strip.len() as u32;
                 self.out.push_event(ShapeEvent::StripCurved {
                     num_triangles: n,
@@ -937,8 +1060,10 @@ impl GeometryLayer {
         let centroid = (sp.pattern[tri[0] as usize]
             + sp.pattern[tri[1] as usize]
             + sp.pattern[tri[2] as usize])
-            / 3.0;
+            / 3.0
+            + off_line(v_perp, self.tri_h[t_comp as usize]);
         let cos_conflict = CONFLICT_RAD.cos();
+        let theta_sing = self.theta_sing;
         let mut borders = [Border::None; 2];
         for (side, dir) in [v_perp, -v_perp].into_iter().enumerate() {
             let mut border = Border::None;
@@ -946,6 +1071,8 @@ impl GeometryLayer {
             let th = &self.out.edge_dihedral_rad;
             let curved = &self.curved;
             let ruling = &self.tri_ruling;
+            let aniso = &self.tri_aniso;
+            let bend = &self.tri_bend;
             let strip = &mut self.strip;
             walk::walk(sp, t_comp, centroid, dir, MAX_WALK, |c| {
                 if let Some((e_lim, steps)) = in_curved {
@@ -953,7 +1080,7 @@ impl GeometryLayer {
                         border = Border::InCurved(e_lim);
                         return false;
                     }
-                    if th[c.edge as usize].abs() > THETA0_RAD {
+                    if th[c.edge as usize].abs() > theta_sing {
                         border = Border::InCurved(c.edge);
                         return false;
                     }
@@ -975,7 +1102,11 @@ impl GeometryLayer {
                         border = Border::Crease(c.edge);
                         false
                     }
-                } else if ruling[to].dot(&dir).abs() >= cos_conflict {
+                } else if ruling[to].dot(&dir).abs() >= cos_conflict
+                    || aniso[to] > ANISO_MAX
+                    || bend[to] <= theta_sing
+                {
+                    // Compatible, or not a clear, strongly bent ruling family: it grows.
                     border = Border::Compatible;
                     false
                 } else {
@@ -1023,7 +1154,12 @@ impl GeometryLayer {
                 continue;
             }
             let vi = v as usize;
-            if topo.vertex_on_boundary[vi] || self.is_singular[vi] || fixed[vi] {
+            // Interior, not yet singular, and outside a hand's pinch (held or next to held).
+            if topo.vertex_on_boundary[vi]
+                || self.is_singular[vi]
+                || fixed[vi]
+                || topo.neighbours(v).iter().any(|&j| fixed[j as usize])
+            {
                 continue;
             }
             let d = (sp.pattern[vi] - pl.pos).norm_squared();
@@ -1253,7 +1389,8 @@ impl GeometryLayer {
                 let c0 = (sp.pattern[tri[0] as usize]
                     + sp.pattern[tri[1] as usize]
                     + sp.pattern[tri[2] as usize])
-                    / 3.0;
+                    / 3.0
+                    + off_line(dir, self.tri_h[t]);
                 let x0 =
                     (sp.pos[tri[0] as usize] + sp.pos[tri[1] as usize] + sp.pos[tri[2] as usize])
                         / 3.0;
@@ -1496,6 +1633,13 @@ impl GeometryLayer {
     }
 }
 
+/// A tiny sideways offset of a walk's start so that a line from a lattice triangle's
+/// centroid does not run exactly through a vertex (an equilateral lattice has vertices right
+/// above its centroids).
+fn off_line(d: V2, h: f64) -> V2 {
+    V2::new(-d.y, d.x) * (1e-3 * h)
+}
+
 /// Makes S_G's interior singular vertices match `sp.singular` (in order).
 pub fn sync_sg_singular(sg: &mut GeomStructure, sp: &PhysMesh) {
     sg.vertices.retain(|v| v.kind != VKind::InteriorSingular);
@@ -1507,5 +1651,175 @@ pub fn sync_sg_singular(sg: &mut GeomStructure, sp: &PhysMesh) {
             bound_s_m: None,
             sp_index: v,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collision::Obstacles;
+    use crate::room::RoomConfig;
+    use crate::sheet::pattern::lattice;
+
+    fn sheet() -> (PhysMesh, GeomStructure) {
+        let sp = PhysMesh::from_pattern(&lattice(0.1, 0.1, 0.011), 0.0, 0.1).unwrap();
+        let sg = GeomStructure::initial(&sp);
+        (sp, sg)
+    }
+
+    fn layer(sp: &PhysMesh) -> GeometryLayer {
+        let cfg = GeometryConfig {
+            isometry: IsometryConfig {
+                enabled: false,
+                ..IsometryConfig::default()
+            },
+            ..GeometryConfig::default()
+        };
+        GeometryLayer::new(
+            sp,
+            cfg,
+            &PaperMaterial::of(crate::control::Material::Printer),
+            1,
+        )
+    }
+
+    fn centre_triangle(sp: &PhysMesh, p: V2) -> usize {
+        use crate::sheet::pattern::signed_area as sa;
+        (0..sp.num_triangles())
+            .find(|&t| {
+                let [a, b, c] = sp.triangles[t].map(|i| sp.pattern[i as usize]);
+                sa(a, b, p) >= 0.0 && sa(b, c, p) >= 0.0 && sa(c, a, p) >= 0.0
+            })
+            .unwrap()
+    }
+
+    /// Digest §8 test 3, case {∂S, ∂S} (Fig. 7): a flat sheet compressed along x gives
+    /// rulings parallel to v⊥ = ±y, both borders free, and no singular vertex.
+    #[test]
+    fn compressed_flat_sheet_propagates_to_two_free_borders() {
+        let (mut sp, mut sg) = sheet();
+        for i in 0..sp.num_vertices() {
+            sp.pos[i].x *= 0.99;
+        }
+        let mut g = layer(&sp);
+        let t = centre_triangle(&sp, V2::new(1.3e-3, 0.7e-3));
+        let x = sp.triangles[t].map(|i| sp.pos[i as usize]);
+        let s = stretch::stretch_tensor(&x, &sp.tri_rest[t].dm_inv);
+        assert!((s.compression() - 0.01).abs() < 1e-9);
+        assert!(s.v_perp.x.abs() < 1e-9, "rulings ∥ v⊥ = y: {:?}", s.v_perp);
+        g.analyse_shape(&sp);
+        g.classify();
+        let b = g.propagate(&sp, t as u32, s.v_perp);
+        assert_eq!(b, [Border::Free, Border::Free]);
+        assert!(
+            g.strip.len() >= 8,
+            "the strip crosses the sheet: {}",
+            g.strip.len()
+        );
+        let fixed = vec![false; sp.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        assert!(g.frame().singular.is_empty());
+        assert!(
+            g.frame()
+                .events
+                .iter()
+                .any(|e| matches!(e, ShapeEvent::StripCurved { cylinder: true, .. }))
+        );
+    }
+
+    /// Digest §8 test 3, case {∂S, singular on a crease} (Fig. 6c): a sheet folded along a
+    /// lattice row into two flat regions, compressed across the fold, gets a singular vertex
+    /// next to the crease, with fibre damage around it; the crease is published as a ruling.
+    #[test]
+    fn propagation_into_a_crease_creates_a_singular_vertex() {
+        let (mut sp, mut sg) = sheet();
+        // The lattice row nearest y = 0.
+        let y0 = sp
+            .pattern
+            .iter()
+            .map(|q| q.y)
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap();
+        let ang: f64 = 0.3;
+        for i in 0..sp.num_vertices() {
+            let q = sp.pattern[i];
+            let x = q.x * 0.995;
+            sp.pos[i] = if q.y > y0 + 1e-9 {
+                let d = q.y - y0;
+                V3::new(x, y0 + d * ang.cos(), d * ang.sin())
+            } else {
+                V3::new(x, q.y, 0.0)
+            };
+        }
+        let mut g = layer(&sp);
+        let fixed = vec![false; sp.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        let f = g.frame();
+        assert!(
+            f.num_flat_regions >= 2,
+            "{} flat regions",
+            f.num_flat_regions
+        );
+        assert!(f.num_creases >= 1);
+        assert!(
+            f.rulings
+                .iter()
+                .any(|r| r.sp_edge != NONE && (r.dihedral_rad.abs() - ang).abs() < 1e-6)
+        );
+        assert_eq!(f.singular.len(), 1);
+        let s = f.singular[0];
+        assert_eq!(s.case, SingularCase::Crease);
+        // Next to the crease (within one edge of the fold row), 2D position fixed.
+        assert!((s.pos2.y - y0).abs() < 0.012, "{:?}", s.pos2);
+        assert!((s.sampled2.y - y0).abs() < 0.01);
+        let n = sp.topo.valence(s.sp_vertex) as f64;
+        for &j in sp.topo.neighbours(s.sp_vertex) {
+            let e = sp.topo.find_edge(s.sp_vertex, j).unwrap() as usize;
+            assert!((sp.edge_rest_angle[e].abs() - THETA_REST_RAD / n).abs() < 1e-12);
+            assert!((sp.edge_damage[e] - DAMAGE_D / n).abs() < 1e-12);
+        }
+        assert_eq!(sg.num_singular(), 1);
+    }
+
+    /// A region containing a singular vertex is one cone with that apex; curved regions of a
+    /// bent sheet have rulings along the bend's generators and free borders.
+    #[test]
+    fn bent_sheet_has_a_curved_region_with_generator_rulings() {
+        let (mut sp, mut sg) = sheet();
+        let r = 0.05;
+        for i in 0..sp.num_vertices() {
+            let q = sp.pattern[i];
+            let a = q.x / r;
+            sp.pos[i] = V3::new(r * a.sin(), q.y, r * (1.0 - a.cos()));
+        }
+        let mut g = layer(&sp);
+        let fixed = vec![false; sp.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        let f = g.frame();
+        assert!(f.num_curved_regions >= 1);
+        let big = f
+            .regions
+            .iter()
+            .enumerate()
+            .max_by_key(|(_, r)| r.num_triangles)
+            .unwrap();
+        assert_eq!(big.1.kind, RegionKind::Curved);
+        let rs = f.region_rulings(big.0 as u32);
+        assert!(rs.len() >= 3);
+        for q in rs {
+            let d = (q.b2 - q.a2).normalize();
+            assert!(d.y.abs() > 0.95, "generator ∥ y: {d:?}");
+        }
+        assert!(big.1.free_border_len_m > 0.05);
+        assert!(big.1.mean_ruling_len_m > 0.05);
+        assert!(
+            f.cones
+                .iter()
+                .any(|c| c.region == big.0 as u32 && !c.is_gap)
+        );
+        assert!(f.singular.is_empty());
     }
 }
