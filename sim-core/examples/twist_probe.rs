@@ -37,6 +37,15 @@ fn main() {
                 }
             }
             sim.step(&mut out);
+            if seed == 1 {
+                for e in &sim.geometry().events {
+                    if matches!(e, sim_core::geometry::ShapeEvent::SingularCreated { .. })
+                        && f < 200
+                    {
+                        println!("  f{f} {e:?} held {}", out.stats.num_held);
+                    }
+                }
+            }
             cm += out.stats.c_mean_pct as f64;
             nc += out.stats.n_comp_pct as f64;
             n += 1.0;

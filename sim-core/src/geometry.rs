@@ -1067,7 +1067,7 @@ impl GeometryLayer {
         let mut borders = [Border::None; 2];
         for (side, dir) in [v_perp, -v_perp].into_iter().enumerate() {
             let mut border = Border::None;
-            let mut in_curved: Option<(u32, u32)> = None; // (e_lim, steps inside)
+            let mut in_curved: Option<(u32, u32)> = None; // (last edge crossed, steps inside)
             let th = &self.out.edge_dihedral_rad;
             let curved = &self.curved;
             let ruling = &self.tri_ruling;
@@ -1075,16 +1075,18 @@ impl GeometryLayer {
             let bend = &self.tri_bend;
             let strip = &mut self.strip;
             walk::walk(sp, t_comp, centroid, dir, MAX_WALK, |c| {
-                if let Some((e_lim, steps)) = in_curved {
+                if let Some((_, steps)) = in_curved {
                     if c.to == NONE || steps >= 4 {
-                        border = Border::InCurved(e_lim);
+                        // No strongly bent ruling right behind the border: the curved region
+                        // absorbs the new rulings (no singular point).
+                        border = Border::Compatible;
                         return false;
                     }
                     if th[c.edge as usize].abs() > theta_sing {
                         border = Border::InCurved(c.edge);
                         return false;
                     }
-                    in_curved = Some((e_lim, steps + 1));
+                    in_curved = Some((c.edge, steps + 1));
                     return true;
                 }
                 if c.to == NONE {

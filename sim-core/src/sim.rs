@@ -764,8 +764,10 @@ mod tests {
         // stretch away) but stopped where the sheet holds it.
         let front = sim.rig().state.hands[1].pose.pos();
         let target_z = 0.75 + 0.5 * 0.297;
+        // (≥ 5 mm short: with the geometry layer's isometry step the balance at the pinch
+        // shifts by a millimetre or two; physics alone stops ≥ 10 mm short.)
         assert!(
-            front.z < target_z - 0.01,
+            front.z < target_z - 0.005,
             "hand at {} vs target {target_z}",
             front.z
         );
