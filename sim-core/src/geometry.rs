@@ -71,7 +71,13 @@
 //!    vertex is one cone with that apex (T 977).
 //! 9. **Isometry** (§3.8, [`isometry`]): Phase I (edge directions, two Lagrange multipliers,
 //!    2×2 solves) and Phase II (positions, least squares, held vertices fixed), then no vertex
-//!    is let deeper into an obstacle than it was.
+//!    is let deeper into an obstacle than it was; a facet turned by more than 0.3 rad
+//!    discards the correction, and frames with a vertex faster than
+//!    `IsometryConfig::max_speed_m_s` skip it (measured: in hostile stress runs the
+//!    position-only correction during violent motion let later physics steps turn facets
+//!    over). Targets are compression-only by default
+//!    (stretched edges keep their length; measured: the symmetric targets raised c_mean above
+//!    the physics alone, see `docs/benchmarks.md`).
 //! 10. **Sudden shape changes** ("clac", T 1247, 1261): new singular vertices, new curved
 //!     regions, flattened triangles, flat-region splits, junction moves and the largest vertex
 //!     jump of the frame are listed in [`GeometryFrame::events`] (never smoothed).
@@ -93,6 +99,10 @@
 //!   nearest to it among the two faces of ē_sing (interior, not held, not yet singular):
 //!   placement resolution is the S_P edge length (≈ 1.1 cm on the 10 cm sheet, 3.3 cm on A4),
 //!   not σ. When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
+//! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
+//!   triangulation of a flat region show a fold across its other diagonal; here flat regions
+//!   are unions of S_P triangles whose own edges carry every fold, so there is no coarse
+//!   triangulation to flip (and S_P's connectivity is kept, above).
 //! - **Curvature analysis on the fine mesh** replaces the seeds' per-region ruling bookkeeping:
 //!   region classification uses the discrete shape operator with the seeds' thresholds.
 //!
@@ -167,6 +177,8 @@ pub const ANISO_MAX: f64 = 0.3;
 pub const CREASE_DOMINANCE: f64 = 4.0;
 /// Frames a triangle that started a propagation pass waits before starting another.
 pub const REFRACTORY_FRAMES: u64 = 20;
+/// Cosine of the largest facet rotation the isometry step may make in one frame (0.3 rad).
+pub const ISO_MAX_TURN_COS: f64 = 0.955_336_489_125_606;
 /// A vertex jump above this is reported as an event, metres.
 pub const JUMP_EVENT_M: f64 = 5e-4;
 /// Capacity of the per-frame event list.
@@ -232,6 +244,9 @@ impl GeometryConfig {
         }
         if !(i.proximity.is_finite() && i.proximity > 0.0 && i.proximity < 1e3) {
             i.proximity = d.proximity;
+        }
+        if i.max_speed_m_s.is_nan() || i.max_speed_m_s < 0.0 {
+            i.max_speed_m_s = d.max_speed_m_s;
         }
         c
     }
@@ -472,6 +487,9 @@ pub struct GeometryFrame {
     pub junction_moves: u32,
     /// The isometry optimizer's report.
     pub isometry: IsometryReport,
+    /// The isometry result was discarded this frame because it would have turned a triangle
+    /// over.
+    pub isometry_reverted: bool,
 }
 
 impl GeometryFrame {
@@ -1602,16 +1620,27 @@ impl GeometryLayer {
     /// Step 9: isometry optimization, obstacle guard, vertex jump.
     fn isometry(&mut self, sp: &mut PhysMesh, fixed: &[bool], obstacles: &Obstacles) {
         self.out.max_vertex_jump_m = 0.0;
-        if !self.cfg.isometry.enabled {
+        let vmax2 = sp.vel.iter().map(|v| v.norm_squared()).fold(0.0, f64::max);
+        let vlim = self.cfg.isometry.max_speed_m_s;
+        self.out.isometry_reverted = false;
+        if !self.cfg.isometry.enabled || vmax2.is_nan() || vmax2 > vlim * vlim {
             self.out.isometry = IsometryReport::default();
             return;
         }
         self.pos_before.copy_from_slice(&sp.pos);
         self.out.isometry = self.iso.run(sp, fixed, &self.cfg.isometry);
+        // Large corrections can destabilize the next physics step (P 1170–1171): each vertex
+        // moves at most a tenth of the mean edge per frame.
+        let max_step = 0.1 * self.spacing_m;
         let (mut max, mut arg) = (0.0, 0u32);
         for i in 0..sp.pos.len() {
             let old = self.pos_before[i];
             let mut x = sp.pos[i];
+            let d = x - old;
+            let dn = d.norm();
+            if dn > max_step {
+                x = old + d * (max_step / dn);
+            }
             for pl in obstacles.active() {
                 let (d_new, d_old) = (pl.distance(&x), pl.distance(&old));
                 if d_new < d_old && d_new < CONTACT_SKIN_M {
@@ -1624,6 +1653,23 @@ impl GeometryLayer {
                 max = j;
                 arg = i as u32;
             }
+        }
+        // Never turn a facet far: if any normal turned by more than ISO_MAX_TURN (or
+        // reversed), the frame keeps the physics' positions (a sharp local correction is what
+        // destabilizes the next physics step, P 1170–1171).
+        self.out.isometry_reverted = false;
+        for (t, tri) in sp.triangles.iter().enumerate() {
+            let x = tri.map(|i| sp.pos[i as usize]);
+            let n = (x[1] - x[0]).cross(&(x[2] - x[0]));
+            let c = n.dot(&self.tri_normal[t]);
+            if c.is_nan() || c <= ISO_MAX_TURN_COS * n.norm() {
+                self.out.isometry_reverted = true;
+                break;
+            }
+        }
+        if self.out.isometry_reverted {
+            sp.pos.copy_from_slice(&self.pos_before);
+            max = 0.0;
         }
         self.out.max_vertex_jump_m = max;
         if max > JUMP_EVENT_M {

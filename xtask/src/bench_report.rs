@@ -626,7 +626,7 @@ fn report(r: &Report<'_>) -> String {
         "Seeds for comparison (TOG Tables IV–V, after their isometry step, 87–156 triangles): \
          c_mean 0.17–1.47 %, n_comp 0.1–11 %, physics 50–232 ms + collisions 10–62 ms per frame, \
          remeshing 0.2–0.8 ms and isometry 0.9–3.1 ms. The geometry column is the difference of \
-         the two medians (the layer's own cost, measured on the same frames).\n"
+         the two medians (the layer's own cost; the two runs play the same scene, their trajectories differ once the layer acts).\n"
     );
 
     // Frontier table.

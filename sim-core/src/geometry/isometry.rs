@@ -65,6 +65,10 @@ pub struct IsometryConfig {
     /// Restore only compressed edges: an edge longer than its pattern length keeps its
     /// current length as the target (impl. choice, see the module doc).
     pub compression_only: bool,
+    /// Skip the step in frames where some vertex is faster than this, m/s (impl. choice:
+    /// the correction moves positions, not velocities; in violent motion that inconsistency
+    /// let the next physics steps turn facets over in the stress runs).
+    pub max_speed_m_s: f64,
 }
 
 impl Default for IsometryConfig {
@@ -77,6 +81,7 @@ impl Default for IsometryConfig {
             phase2_rel_tol: 1e-7,
             proximity: 1e-3,
             compression_only: true,
+            max_speed_m_s: 1.0,
         }
     }
 }
