@@ -14,7 +14,9 @@
 //! 2. the gesture rig turns gesture values into handle targets ([`gesture_rig`], [`handles`]);
 //! 3. the physics step moves S_P with the handles as hard constraints ([`physics`]), against
 //!    the room's obstacles with friction ([`collision`]);
-//! 4. the geometry layer updates S_G ([`sheet::geometric`]; its operations are the next issue);
+//! 4. the geometry layer analyses and corrects the sheet ([`geometry`]: compression analysis,
+//!    imaginary rulings, singular vertices and fibre damage, region partition, rulings, cone
+//!    fitting, isometry) and publishes [`geometry::GeometryFrame`];
 //! 5. contacts, metrics ([`metrics`]) and per-frame outputs for sound
 //!    ([`sound_input::SoundFrame`]) are written.
 //!
@@ -31,6 +33,7 @@
 
 pub mod collision;
 pub mod control;
+pub mod geometry;
 pub mod gesture_rig;
 pub mod handles;
 pub mod material;
@@ -51,6 +54,7 @@ pub mod stress;
 
 pub use collision::VertexContact;
 pub use control::{Command, GestureParam, GrabSlot, Material, SheetSize};
+pub use geometry::{GeometryConfig, GeometryFrame};
 pub use mesh_snapshot::MeshSnapshot;
 pub use physics::{SolverConfig, SolverKind};
 pub use room::RoomConfig;

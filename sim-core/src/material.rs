@@ -30,7 +30,7 @@
 //!   without stretching) and the implicit system becomes exactly the ill-conditioned problem
 //!   the seeds avoid. The scaled k_s keeps in-plane strain well below the buckling strain of a
 //!   single element while the solver stays well conditioned; the residual compression is what
-//!   the metrics (c_mean, n_comp) report and what the isometry layer (next issue) removes.
+//!   the metrics (c_mean, n_comp) report and what the isometry step of [`crate::geometry`] reduces.
 //!   The benchmark report sweeps this trade-off; the default factor 0.01 (printer paper:
 //!   k_s = 5 kN/m) keeps every seed scenario's strain bounded with 3 Newton iterations (0.03
 //!   is slightly more isometric on average but over-stretches the full crumple).
@@ -47,7 +47,7 @@
 //!   handling (E ≈ 0.45×, t ≈ 1.05×): ρ = 0.09, k_s = 0.25 MN/m, B = 0.2 mN·m, more friction.
 //!
 //! ε_c (compression limit, digest §4.1, Table VI default 1e-3) and σ (singular-point spread,
-//! default 0.1 cm, digest §9 item 1) are carried here for the geometry layer (next issue):
+//! default 0.1 cm, digest §9 item 1) are carried here for the geometry layer ([`crate::geometry`]):
 //! thicker/stiffer grades get a larger ε_c and σ (P 1309–1314, P 1085–1087).
 
 use crate::control::Material;

@@ -60,6 +60,18 @@ pub struct RunSummary {
     pub max_speed_m_s: f64,
     /// Hash of the final positions and velocities.
     pub final_hash: u64,
+    /// Interior singular vertices at the end (the count never decreases).
+    pub singular_final: u32,
+    /// Frame of the first singular vertex, if any.
+    pub first_singular_frame: Option<u64>,
+    /// Most curved regions in one frame.
+    pub curved_regions_max: u32,
+    /// Most cones (gap cones included) in one frame.
+    pub cones_max: u32,
+    /// Largest vertex jump made by the geometry layer, metres.
+    pub jump_max_m: f64,
+    /// Geometry events over the run (sudden shape changes).
+    pub geometry_events: u64,
 }
 
 impl RunSummary {
@@ -145,6 +157,15 @@ pub fn run_script(script: &Script, base: SimConfig, timed: bool) -> Result<RunSu
         s.max_speed_m_s = s.max_speed_m_s.max(f64::from(st.max_speed_m_s));
         iters += u64::from(st.iterations);
         substeps += u64::from(st.substeps);
+        let g = sim.geometry();
+        s.singular_final = st.num_singular;
+        if st.num_singular > 0 && s.first_singular_frame.is_none() {
+            s.first_singular_frame = Some(s.frames);
+        }
+        s.curved_regions_max = s.curved_regions_max.max(g.num_curved_regions);
+        s.cones_max = s.cones_max.max(g.cones.len() as u32);
+        s.jump_max_m = s.jump_max_m.max(g.max_vertex_jump_m);
+        s.geometry_events += g.events.len() as u64;
     }
     if s.frames > 0 {
         let n = s.frames as f64;

@@ -13,7 +13,7 @@
 //! - [`pattern`]: the initial lattice triangulation of the flat sheet;
 //! - [`topology`]: half-edge topology as plain `u32` index data;
 //! - [`physical`]: S_P (positions, velocities, masses, rest data, rest angles, damage);
-//! - [`geometric`]: S_G (the data model for the geometry layer of the next issue).
+//! - [`geometric`]: S_G (the data model; its operations are [`crate::geometry`]).
 
 pub mod geometric;
 pub mod pattern;

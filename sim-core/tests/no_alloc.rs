@@ -137,6 +137,12 @@ fn stepping_applying_and_copying_the_mesh_do_not_allocate() {
         let mut out = FrameOutput::default();
         let n = count(|| exercise(&mut sim, &mut out, &mut snap));
         assert_eq!(n, 0, "{kind:?}: {n} allocations in the steady state");
+        // The geometry layer ran its whole path, singular-point creation included.
+        assert!(sim.geometry_layer().frames_processed() > 100);
+        assert!(
+            !sim.geometry().singular.is_empty(),
+            "{kind:?}: no singular point created"
+        );
         assert!(snap.is_finite() && !snap.triangles.is_empty());
         assert!(sim.work_counter() > 0);
         // A reset may allocate (new sheet); afterwards the steady state is again free.

@@ -10,7 +10,7 @@
 
 use sim_core::sheet::MeshConfig;
 use sim_core::sim::SimConfig;
-use sim_core::stress::{StressConfig, run};
+use sim_core::stress::{StressConfig, run_with};
 
 fn session(seed: u64, frames: u64) {
     let cfg = StressConfig {
@@ -24,7 +24,45 @@ fn session(seed: u64, frames: u64) {
         validate_every: 500,
         trace: false,
     };
-    let r = run(&cfg);
+    // Geometry-layer invariants after every frame: the interior singular count never
+    // decreases within a sheet's life (a reset starts a new sheet), every singular point stays
+    // at its pattern position, the published partition is consistent and c_mean is bounded.
+    let mut last: (u64, usize) = (0, 0);
+    let mut first_pos: Vec<sim_core::math::V2> = Vec::new();
+    let mut worst_c_mean: f64 = 0.0;
+    let r = run_with(&cfg, |_, sim| {
+        let g = sim.geometry();
+        let n = g.singular.len();
+        if sim.frame() > last.0 {
+            assert!(n >= last.1, "seed {seed}: singular count {} → {n}", last.1);
+        } else {
+            first_pos.clear();
+        }
+        for (k, s) in g.singular.iter().enumerate() {
+            if k < first_pos.len() {
+                assert_eq!(
+                    first_pos[k], s.pos2,
+                    "seed {seed}: a singular point moved in 2D"
+                );
+            } else {
+                first_pos.push(s.pos2);
+            }
+        }
+        last = (sim.frame(), n);
+        assert_eq!(g.tri_region.len(), sim.sheet().sp.num_triangles());
+        assert!(g.tri_region.iter().all(|&r| (r as usize) < g.regions.len()));
+        assert!(
+            g.rulings
+                .iter()
+                .all(|r| r.length_m.is_finite() && r.dihedral_rad.is_finite())
+        );
+        assert!(g.max_vertex_jump_m.is_finite());
+        worst_c_mean = worst_c_mean.max(sim.metrics().c_mean_pct);
+    });
+    assert!(
+        worst_c_mean < 5.0,
+        "seed {seed}: c_mean reached {worst_c_mean} %"
+    );
     assert!(r.ok(), "seed {seed}: {:?}", r.failure);
     assert_eq!(r.frames, frames);
     assert_eq!((r.flips, r.recoveries), (0, 0));

@@ -12,6 +12,11 @@
 //! S_P (TOG Table IV): c_mean (mean edge compression, %) and n_comp (% of edges compressed more
 //! than 1 %), averaged over all frames.
 //!
+//! The default row runs the whole frame: physics **and** the developable-geometry layer
+//! (`sim_core::geometry`: compression analysis, singular points, partition, rulings, cones,
+//! isometry); the physics-only figures of the same solver are printed beside it, and the
+//! geometry rows of the frontier sit next to the physics-only sweeps.
+//!
 //! Sweeps: Newton substeps × iterations, XPBD substeps, mesh density, stretching-stiffness
 //! scaling; a fine fixed mesh (~1 600 triangles, the seeds' "standard FEM" column of TOG
 //! Table II); and the cost against the triangle count (fitted exponent, the seeds' ≈ N^1.9).
@@ -21,6 +26,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{Context, bail};
+use sim_core::geometry::GeometryConfig;
 use sim_core::physics::{SolverConfig, SolverKind};
 use sim_core::scenario;
 use sim_core::scenario_run::run_script;
@@ -37,6 +43,7 @@ struct Variant {
     group: &'static str,
     solver: SolverConfig,
     mesh: MeshConfig,
+    geometry: GeometryConfig,
 }
 
 /// Results of one scenario under one configuration.
@@ -54,6 +61,8 @@ struct ScenarioResult {
     frames: u64,
     /// Flipped triangles + recovered substeps (0 in a healthy run).
     faults: u64,
+    /// Interior singular vertices at the end of the scene.
+    singular: u32,
 }
 
 /// Results of one configuration over the scenarios.
@@ -104,6 +113,7 @@ fn measure(
         let cfg = SimConfig {
             solver: variant.solver,
             mesh: variant.mesh,
+            geometry: variant.geometry,
             ..SimConfig::default()
         };
         let mut best: Vec<u64> = Vec::new();
@@ -136,6 +146,7 @@ fn measure(
             awake: s.awake_frames,
             frames: s.frames,
             faults: s.flips + s.recoveries,
+            singular: s.singular_final,
         });
     }
     Ok(VariantResult {
@@ -180,6 +191,7 @@ fn solver_label(s: &SolverConfig) -> String {
     }
 }
 
+/// A physics-only configuration (geometry layer off).
 fn variant(group: &'static str, solver: SolverConfig, m: MeshConfig) -> Variant {
     let mut label = format!("{} · L/{:.0}", solver_label(&solver), 1.0 / m.spacing_frac);
     if solver.stretch_scale != SolverConfig::default().stretch_scale {
@@ -190,12 +202,72 @@ fn variant(group: &'static str, solver: SolverConfig, m: MeshConfig) -> Variant 
         group,
         solver,
         mesh: m,
+        geometry: GeometryConfig {
+            enabled: false,
+            ..GeometryConfig::default()
+        },
     }
+}
+
+/// The same configuration with the geometry layer on (`g`), labelled `+ geometry` and `note`.
+fn with_geometry(mut v: Variant, group: &'static str, g: GeometryConfig, note: &str) -> Variant {
+    v.group = group;
+    v.geometry = g;
+    let _ = write!(v.label, " + geometry{note}");
+    v
 }
 
 fn variants(quick: bool) -> Vec<Variant> {
     let d = MeshConfig::default();
-    let mut v = vec![variant("default", SolverConfig::default(), d)];
+    let g = GeometryConfig::default();
+    let physics = variant("physics", SolverConfig::default(), d);
+    // Row 0: the whole frame (the default configuration); row 1: the same physics alone.
+    let mut v = vec![with_geometry(physics.clone(), "default", g, ""), physics];
+    // Geometry-layer rows of the frontier.
+    let geo_solvers: &[(u32, u32)] = if quick { &[(1, 2)] } else { &[(1, 2), (1, 5)] };
+    for &(s, i) in geo_solvers {
+        v.push(with_geometry(
+            variant("newton", newton(s, i), d),
+            "geometry",
+            g,
+            "",
+        ));
+    }
+    let no_iso = GeometryConfig {
+        isometry: sim_core::geometry::isometry::IsometryConfig {
+            enabled: false,
+            ..g.isometry
+        },
+        ..g
+    };
+    v.push(with_geometry(
+        variant("newton", SolverConfig::default(), d),
+        "geometry",
+        no_iso,
+        " (no isometry)",
+    ));
+    if !quick {
+        let long_iso = GeometryConfig {
+            isometry: sim_core::geometry::isometry::IsometryConfig {
+                phase1_max_iters: 200,
+                phase2_max_iters: 200,
+                ..g.isometry
+            },
+            ..g
+        };
+        v.push(with_geometry(
+            variant("newton", SolverConfig::default(), d),
+            "geometry",
+            long_iso,
+            " (isometry 200 it.)",
+        ));
+        v.push(with_geometry(
+            variant("density", SolverConfig::default(), mesh(1.0 / 13.0)),
+            "geometry",
+            g,
+            "",
+        ));
+    }
     let newton_grid: &[(u32, u32)] = if quick {
         &[(1, 1), (1, 5)]
     } else {
@@ -332,7 +404,7 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
     // 1. Sweeps over the whole library.
     let mut results = Vec::new();
     for v in variants(quick) {
-        let r = if v.group == "default" {
+        let r = if v.group == "default" || v.group == "physics" {
             measure(&v, &names, reps.max(2))?
         } else {
             measure(&v, &names, reps)?
@@ -494,12 +566,17 @@ fn report(r: &Report<'_>) -> String {
          over the frames in which the physics ran (a sleeping sheet costs nothing). Error = the \
          seeds' length error on S_P (TOG Table IV): **c_mean** = mean edge compression against \
          the pattern, **n_comp** = % of edges compressed by more than 1 %, both averaged over all \
-         frames; this is the physics alone (the isometry layer of the next issue comes on top). \
-         Targets: median ≤ 1 ms and p99 ≤ 4 ms per frame for 100–300 triangles.\n"
+         frames, measured at the end of each frame. The default configuration runs the whole \
+         frame: physics, then the developable-geometry layer (compression analysis, singular \
+         points and fibre damage, flat/curved partition, rulings, cone fitting, two-phase \
+         isometry); the physics-only figures of the same solver are beside it. Targets: whole \
+         frame median ≤ 1 ms and p99 ≤ 4 ms for 100–300 triangles; c_mean ≤ 0.2 %, n_comp ≤ 1 %; \
+         geometry ≤ 0.2 ms per frame.\n"
     );
 
-    // Default per scenario.
+    // Default per scenario, with the physics alone beside it.
     let d = &r.results[0];
+    let p = &r.results[1];
     let _ = writeln!(
         s,
         "### Default configuration ({}) per scenario\n",
@@ -507,13 +584,16 @@ fn report(r: &Report<'_>) -> String {
     );
     let _ = writeln!(
         s,
-        "| scenario | S_P triangles | frames (awake) | median ms | p99 ms | c_mean % | n_comp % | max strain | Newton it./substep |"
+        "| scenario | S_P triangles | frames (awake) | median ms | p99 ms | c_mean % | n_comp % | singular | physics only: median ms | physics only: c_mean % | physics only: n_comp % | geometry ms (median difference) | max strain | Newton it./substep |"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
-    for x in &d.scenarios {
+    let _ = writeln!(
+        s,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    for (x, y) in d.scenarios.iter().zip(&p.scenarios) {
         let _ = writeln!(
             s,
-            "| {} | {:.0} | {} ({}) | {:.3} | {:.3} | {:.4} | {:.2} | {:.3} | {:.2} |",
+            "| {} | {:.0} | {} ({}) | {:.3} | {:.3} | {:.4} | {:.2} | {} | {:.3} | {:.4} | {:.2} | {:.3} | {:.3} | {:.2} |",
             x.name,
             x.tris,
             x.frames,
@@ -522,31 +602,42 @@ fn report(r: &Report<'_>) -> String {
             x.p99_ms,
             x.c_mean,
             x.n_comp,
+            x.singular,
+            y.median_ms,
+            y.c_mean,
+            y.n_comp,
+            x.median_ms - y.median_ms,
             x.strain,
             x.iters
         );
     }
     let _ = writeln!(
         s,
-        "| **all** | {:.0} | | **{:.3}** (max {:.3}) | **{:.3}** (max) | **{:.4}** | **{:.2}** | {:.3} | |\n",
+        "| **all** | {:.0} | | **{:.3}** (max {:.3}) | **{:.3}** (max) | **{:.4}** | **{:.2}** | | {:.3} | {:.4} | {:.2} | {:.3} | {:.3} | |\n",
         d.mean(|x| x.tris),
         d.median_ms(),
         d.max(|x| x.median_ms),
         d.max(|x| x.p99_ms),
         d.c_mean(),
         d.n_comp(),
+        p.median_ms(),
+        p.c_mean(),
+        p.n_comp(),
+        d.median_ms() - p.median_ms(),
         d.max(|x| x.strain)
     );
     let _ = writeln!(
         s,
         "Seeds for comparison (TOG Tables IV–V, after their isometry step, 87–156 triangles): \
-         c_mean 0.17–1.47 %, n_comp 0.1–11 %, physics 50–232 ms + collisions 10–62 ms per frame.\n"
+         c_mean 0.17–1.47 %, n_comp 0.1–11 %, physics 50–232 ms + collisions 10–62 ms per frame, \
+         remeshing 0.2–0.8 ms and isometry 0.9–3.1 ms. The geometry column is the difference of \
+         the two medians (the layer's own cost; the two runs play the same scene, their trajectories differ once the layer acts).\n"
     );
 
     // Frontier table.
     let _ = writeln!(
         s,
-        "### Frontier: solvers, time steps, iterations, density, stiffness\n"
+        "### Frontier: solvers, time steps, iterations, density, stiffness, geometry layer\n"
     );
     let _ = writeln!(
         s,
@@ -556,15 +647,20 @@ fn report(r: &Report<'_>) -> String {
     );
     let _ = writeln!(
         s,
-        "| configuration | group | triangles | median ms | p99 ms | c_mean % | n_comp % | flipped triangles |"
+        "| configuration | group | geometry layer | triangles | median ms | p99 ms | c_mean % | n_comp % | flipped triangles |"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
     for v in r.results {
         let _ = writeln!(
             s,
-            "| {} | {} | {:.0} | {:.3} | {:.3} | {:.4} | {:.2} | {} |",
+            "| {} | {} | {} | {:.0} | {:.3} | {:.3} | {:.4} | {:.2} | {} |",
             v.variant.label,
             v.variant.group,
+            if v.variant.geometry.enabled {
+                "on"
+            } else {
+                "off"
+            },
             v.mean(|x| x.tris),
             v.median_ms(),
             v.max(|x| x.p99_ms),
@@ -583,16 +679,17 @@ fn report(r: &Report<'_>) -> String {
         r.results
             .iter()
             .filter(|v| v.variant.solver.kind == kind && v.variant.mesh == MeshConfig::default())
+            .filter(|v| !v.variant.geometry.enabled)
             .filter(|v| v.variant.solver.stretch_scale == SolverConfig::default().stretch_scale)
             .filter(|v| v.median_ms() <= budget)
             .min_by(|a, b| a.c_mean().total_cmp(&b.c_mean()))
     };
-    let budget = d.median_ms() * 1.5;
+    let budget = p.median_ms() * 1.5;
     let bn = best_at(SolverKind::Newton, budget);
     let bx = best_at(SolverKind::Xpbd, budget);
     let _ = writeln!(
         s,
-        "**Solver decision (measured).** Within {budget:.2} ms per frame (1.5 × the default's median):"
+        "**Solver decision (measured, physics only).** Within {budget:.2} ms per frame (1.5 × the default solver's physics-only median):"
     );
     match (bn, bx) {
         (Some(n), Some(x)) => {
@@ -784,7 +881,7 @@ fn plot(
         .fold((f64::MAX, 0.0f64), |a, p| (a.0.min(p.1), a.1.max(p.1)));
     let mut chart = ChartBuilder::on(&left)
         .caption(
-            "Run time against length error (mean over scenarios)",
+            "Run time against length error (mean over scenarios; green: with the geometry layer)",
             ("sans-serif", 22),
         )
         .margin(15)
@@ -801,6 +898,7 @@ fn plot(
         .draw()?;
     let colour = |r: &VariantResult| match (r.variant.group, r.variant.solver.kind) {
         ("fine", _) => BLACK,
+        ("default" | "geometry", _) => GREEN,
         ("stiffness", _) => MAGENTA,
         ("density", SolverKind::Newton) => CYAN,
         ("density", SolverKind::Xpbd) => RGBColor(255, 165, 0),
@@ -817,6 +915,7 @@ fn plot(
         )))?;
     }
     for (label, c) in [
+        ("Newton + geometry layer", GREEN),
         ("Newton (default mesh)", BLUE),
         ("XPBD (default mesh)", RED),
         ("Newton, other density", CYAN),

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cargo run --release -p sim-core --bin sim-stress -- [--frames N] [--seed S] [--sessions K]
-//!     [--solver newton|xpbd] [--stretch-scale K] [--trace]
+//!     [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--trace]
 //! ```
 //!
 //! The frames are split into `K` sessions with seeds `S, S+1, …` (each a fresh sheet, sizes
@@ -22,6 +22,7 @@ fn main() {
     let mut sessions: u64 = 20;
     let mut solver = SolverKind::Newton;
     let mut trace = false;
+    let mut geometry = true;
     let mut stretch_scale: Option<f64> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -41,6 +42,7 @@ fn main() {
                 }
             }
             "--trace" => trace = true,
+            "--no-geometry" => geometry = false,
             "--stretch-scale" => {
                 stretch_scale = Some(
                     val()
@@ -60,6 +62,7 @@ fn main() {
         (0.0f64, 0.0f64, 0.0f64, 0u64, 0u64);
     for s in 0..sessions {
         let mut sim = SimConfig::default();
+        sim.geometry.enabled = geometry;
         sim.solver.kind = solver;
         if let Some(k) = stretch_scale {
             sim.solver.stretch_scale = k;
@@ -80,7 +83,7 @@ fn main() {
         asleep += r.asleep_frames;
         cmds += r.commands;
         println!(
-            "session {s:3} seed {:3}: {:7} frames, {:6} commands, {:6} asleep, vmax {:6.2} m/s, KE {:.2e} J, strain {:.3}, flips {}, recoveries {}",
+            "session {s:3} seed {:3}: {:7} frames, {:6} commands, {:6} asleep, vmax {:6.2} m/s, KE {:.2e} J, strain {:.3}, flips {}, recoveries {}, singular ≤ {}, c_mean ≤ {:.3} %",
             seed + s,
             r.frames,
             r.commands,
@@ -89,7 +92,9 @@ fn main() {
             r.max_kinetic_energy_j,
             r.max_strain,
             r.flips,
-            r.recoveries
+            r.recoveries,
+            r.max_singular,
+            r.max_c_mean_pct
         );
         if let Some((f, msg)) = r.failure {
             eprintln!("FAIL: session {s} (seed {}), frame {f}: {msg}", seed + s);
@@ -101,7 +106,7 @@ fn main() {
     }
     let secs = t0.elapsed().as_secs_f64();
     println!(
-        "OK: {total} frames ({cmds} commands, {asleep} asleep) in {secs:.1} s ({:.3} ms/frame); max speed {vmax:.2} m/s, max KE {kemax:.2e} J, max strain {strain:.3}; no NaN, no flipped triangle, no recovery, mesh valid",
+        "OK: {total} frames ({cmds} commands, {asleep} asleep) in {secs:.1} s ({:.3} ms/frame); max speed {vmax:.2} m/s, max KE {kemax:.2e} J, max strain {strain:.3}; no NaN, no flipped triangle, no recovery, mesh valid, singular counts never decreased, c_mean bounded",
         secs * 1e3 / total.max(1) as f64
     );
 }
@@ -111,7 +116,7 @@ fn usage(msg: &str) -> ! {
         eprintln!("sim-stress: {msg}");
     }
     eprintln!(
-        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--trace]"
+        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--trace]"
     );
     std::process::exit(2);
 }

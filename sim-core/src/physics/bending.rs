@@ -20,7 +20,7 @@
 //!
 //! θ̄_e is the per-edge rest angle and d_e the per-edge damage of the fibre-damage model
 //! (P eq. 1, P 504–519; T eq. 2.1–2.2, T 753–775: `k_b(edge) = k_b / (1 + d)`), both set by the
-//! geometry layer around singular vertices (next issue); 0 for a new sheet, so a smoothly bent
+//! geometry layer around singular vertices ([`crate::geometry`]); 0 for a new sheet, so a smoothly bent
 //! sheet flattens back when released (P 489–491).
 //!
 //! **Dihedral angle.** For a hinge `[x0, x1, x2, x3]` (edge x0→x1 in face A = (x0, x1, x2),

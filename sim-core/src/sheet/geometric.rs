@@ -9,9 +9,13 @@
 //! (P 388–394, T 714). Every S_G vertex is also an S_P vertex (P 351–354, T 665): the map is
 //! [`GVertex::sp_index`].
 //!
-//! This module is the **data model** only. The operations that change it (edge flips,
-//! compression analysis, ruling propagation, singular-point creation, junction tracking, cone
-//! fitting, isometry; digest §3.1–3.8) are the next issue. Here a new sheet gets the initial
+//! This module is the **data model** only. The operations (compression analysis, ruling
+//! propagation, singular-point creation, junction tracking, cone fitting, isometry; digest
+//! §3.1–3.8) are in [`crate::geometry`], which computes the per-frame partition on S_P and
+//! publishes it as [`crate::geometry::GeometryFrame`]; of this structure it maintains the
+//! interior singular vertices (appended here as [`VKind::InteriorSingular`]), while `flats`
+//! and `curved` keep the initial coarse structure (see the geometry module's simplifications).
+//! Here a new sheet gets the initial
 //! structure: one flat region covering the whole pattern, whose vertices are the four corners
 //! and a sparse sampling of the boundary (the thesis samples the 10 cm sheet's boundary with
 //! "12 vertices", T 1130; digest §9 item 2), triangulated by ear clipping; and step (c) of the

@@ -10,7 +10,9 @@
 //! of the discrete bending energy, T 357–361).
 //!
 //! All arrays are sized once when the mesh is built; stepping only writes into them. The
-//! geometry layer of the next issue regenerates S_P from S_G (§2.2); it will rebuild this
+//! seeds regenerate S_P from S_G every frame (§2.2); our geometry layer ([`crate::geometry`])
+//! keeps S_P's connectivity instead (see its module doc) and only writes rest angles, damage,
+//! the singular list and positions; a future remeshing would rebuild this
 //! structure, which is allowed to allocate (a connectivity change is not a steady-state step).
 
 use crate::math::{M2, V2, V3};

@@ -18,8 +18,13 @@ use crate::gesture_rig::{NUM_HANDS, RigState};
 
 /// Version of [`SavedSheet`]; bump it (and migrate) whenever its meaning changes.
 ///
-/// History: 1 = positions only (kinematic placeholder); 2 = the physical sheet.
-pub const SAVED_SHEET_VERSION: u32 = 2;
+/// History: 1 = positions only (kinematic placeholder); 2 = the physical sheet; 3 = plus the
+/// geometry layer's state ([`SavedSheet::geometry`]). Version 2 is still read (migration: the
+/// singular vertices, rest angles and damage it already holds are kept, the layer's
+/// flat/curved state and generator start fresh).
+pub const SAVED_SHEET_VERSION: u32 = 3;
+/// Oldest version [`crate::Sim::restore`] reads.
+pub const OLDEST_READABLE_VERSION: u32 = 2;
 
 /// Half-extent of the room box positions must lie in, metres.
 pub const ROOM_BOX_HALF_M: f64 = 50.0;
@@ -74,6 +79,9 @@ pub struct SavedSheet {
     pub asleep: bool,
     /// Consecutive quiet frames counted towards sleep.
     pub quiet_frames: u32,
+    /// The geometry layer's persistent state (version ≥ 3; absent in version 2).
+    #[serde(default)]
+    pub geometry: Option<crate::geometry::SavedGeometry>,
 }
 
 /// Why a saved sheet could not be restored.
@@ -112,7 +120,7 @@ fn finite(v: f64) -> bool {
 impl SavedSheet {
     /// Checks everything that does not need the mesh to be built.
     pub(crate) fn validate_fields(&self) -> Result<(), RestoreError> {
-        if self.version != SAVED_SHEET_VERSION {
+        if !(OLDEST_READABLE_VERSION..=SAVED_SHEET_VERSION).contains(&self.version) {
             return Err(RestoreError::Version(self.version));
         }
         if self.frame > MAX_SAVED_COUNTER

@@ -1,0 +1,1873 @@
+//! # The developable-geometry layer (steps (d)–(h) of the seeds' frame loop)
+//!
+//! After the physics step has moved S_P and S_G has read its positions (steps (a)–(c),
+//! [`crate::sim`]), this layer runs the geometric analysis of the seeds (thesis §2.4–2.5,
+//! `000_cb4d91e46ec5927f.txt`; TOG 2015 §4–6, `001_44bc28f7c5e9f81f.txt`; spec:
+//! `../shared/notes/digest-crumpling.md` §3) and publishes what sound and tearing need
+//! ([`GeometryFrame`], read through `Sim::geometry`). Per awake frame, in the Fig. 16 order
+//! (digest §9 item 3: the documented Step 1 → 3 order, not Algorithm 1's):
+//!
+//! 1. **Dihedral angles and local shape** of every S_P edge and triangle: the signed hinge
+//!    angle θ_e (the physics' own [`crate::physics::bending::dihedral`]) and, per triangle,
+//!    the discrete shape operator in the pattern, S̄_t = Σ_e θ_e |ē| / (2Ā_t) · m̄_e m̄_eᵀ
+//!    (m̄_e: in-plane unit normal of the pattern edge). Its large eigenvalue κ_t is the bending
+//!    curvature; the eigenvector of the small one is the local **ruling direction** r̄_t; the
+//!    bend across the triangle is β_t = |κ_t|·h_t (h_t: equilateral edge of the same area).
+//!    An edge much sharper than the triangle's two others ([`CREASE_DOMINANCE`]) is a crease
+//!    bounding a flat facet and is left out of that facet's shape operator, so a sharp fold
+//!    between two flat parts is seen as the seeds see it: two flat regions and a crease.
+//! 2. **Flat / curved classification with hysteresis** (§3.1, §3.6): a flat triangle turns
+//!    curved when β_t > θ_high = θ0 = 0.01 rad, a curved one turns flat again only when
+//!    β_t < θ_low = θ0/10 (P 792, T 965). Flat regions are the connected sets of flat triangles
+//!    joined across edges with |θ_e| < θ0 (the seeds' coplanarity, P 537–542), so a flat region
+//!    **splits** as soon as one of its edges bends beyond θ0 (T 813); an edge with |θ_e| ≥ θ0
+//!    between two flat regions is a **crease**, the seeds' degenerate one-ruling curved region
+//!    (T 740). Junction points are the boundary vertices where a flat and a curved triangle
+//!    meet (P 303–306); the hysteresis keeps them from oscillating (P 792–794, digest test 8),
+//!    and a curved region whose triangles all fall below θ_low becomes flat again (P 794–797).
+//! 3. **Compression analysis** (§3.2): the stretch tensor of every flat triangle
+//!    ([`stretch`]); the most compressed one T_comp with c_t = 1 − λ_min > ε_c starts a pass.
+//!    **Addition (impl. choice):** a *curved* triangle compressed along its own, well-defined
+//!    ruling direction (|κ_small/κ_big| < [`ANISO_MAX`], compression direction within
+//!    [`CONFLICT_RAD`] of the ruling) by more than `curved_eps_factor`·ε_c also starts a
+//!    pass, as a case A conflict in place (singular point about its most bent edge). The
+//!    seeds never need this because their curved regions are developable by construction;
+//!    on our fixed S_P a curved region compressed along its generators is exactly the
+//!    situation that buckles into a d-cone (P 685–692). Triangles touching a held vertex do
+//!    not start passes, nor do their neighbours (the hand's constraint strains them), and a singular vertex is never
+//!    placed on or next to a held vertex (the pinch).
+//! 4. **Imaginary-ruling propagation** (§3.3, Appendix A): from T_comp along ±v⊥ in the
+//!    pattern ([`walk`]), through flat triangles of the same region, until a border: the sheet
+//!    boundary (free border, case b), a crease (case c), or a curved region. A curved region
+//!    whose own rulings are parallel to v⊥ (within [`CONFLICT_RAD`]) is simply extended; one
+//!    whose rulings conflict continues the propagation through it to the first ruling bent
+//!    beyond θ_sing (e_sing, case d, P 693–704). θ_sing is θ0 scaled by the ratio of the S_P
+//!    edge to the seeds' ruling spacing 1/ρ_bound (the dihedral between two of our triangles
+//!    spans that many of the seeds' rulings); a curved region counts as conflicting only if it
+//!    is bent beyond θ_sing with a well-defined ruling direction (a weakly bent or twisted one
+//!    simply grows). Border types: {∂S, ∂S} → a generalized cylinder
+//!    (rulings ∥ v⊥, Fig. 7); {∂S, singular} → a cone through the new singular point
+//!    (Fig. 8); {singular, singular} → degenerate (Fig. 9). The strip's triangles become curved
+//!    (the new curved region). Up to [`GeometryConfig::max_passes`] passes per frame (digest
+//!    §3.4 impl. choice); a triangle that started a pass waits [`REFRACTORY_FRAMES`].
+//! 5. **Singular-vertex generation** (§3.5) at crease and conflicting-ruling borders: s̄ is
+//!    drawn with the seeds' law about ē_sing ([`placement`], seeded RNG, σ from the material).
+//!    Persistent: never removed, never moved in 2D.
+//! 6. **Fibre damage** (§2.3, P eq. 1, T eq. 2.1–2.2): around a new singular vertex i with
+//!    N_i incident S_P edges, every incident edge gets rest angle += ±Θ_rest/N_i (Θ_rest = π/8)
+//!    with the sign of its current fold (digest §9 item 8: interior vertices only, sign at
+//!    creation) and damage += D/N_i (D = 10, k_b/(1 + d)): the physics then keeps the d-cone,
+//!    so a crumpled sheet does not spring back flat, while a smoothly bent one does (P 489–491).
+//! 7. **Region partition, rulings, free borders** (§5.1): curved regions are connected curved
+//!    triangles with compatible ruling directions; rulings are straight pattern lines traced
+//!    along r̄_t through the region (seeded at the most bent uncovered triangle, one strip of
+//!    triangles per ruling) with 2D/3D endpoints, length, tangent-plane normal and dihedral
+//!    angle (the mean signed κ along the ruling × the ruling spacing, i.e. the angle between
+//!    the tangent planes of neighbouring rulings, as the seeds' quads have); crease edges are
+//!    rulings of their own (dihedral = θ_e).
+//! 8. **Generalized-cone fitting** (§3.7, [`cone`]): per curved region, rulings ordered across
+//!    it, least-squares apex on the Blaschke cylinder, segmentation into cones with
+//!    ε_blaschke = 0.5 % L_paper, gap cones between segments; a region containing a singular
+//!    vertex is one cone with that apex (T 977).
+//! 9. **Isometry** (§3.8, [`isometry`]): Phase I (edge directions, two Lagrange multipliers,
+//!    2×2 solves) and Phase II (positions, least squares, held vertices fixed), then no vertex
+//!    is let deeper into an obstacle than it was; a facet turned by more than 0.3 rad
+//!    discards the correction, and frames with a vertex faster than
+//!    `IsometryConfig::max_speed_m_s` skip it (measured: in hostile stress runs the
+//!    position-only correction during violent motion let later physics steps turn facets
+//!    over). Targets are compression-only by default
+//!    (stretched edges keep their length; measured: the symmetric targets raised c_mean above
+//!    the physics alone, see `docs/benchmarks.md`).
+//! 10. **Sudden shape changes** ("clac", T 1247, 1261): new singular vertices, new curved
+//!     regions, flattened triangles, flat-region splits, junction moves and the largest vertex
+//!     jump of the frame are listed in [`GeometryFrame::events`] (never smoothed).
+//!
+//! ## Simplifications against the seeds (said plainly)
+//!
+//! - **S_P keeps its connectivity.** The seeds regenerate S_P from S_G every frame (coarse
+//!   flat triangles + Delaunay enrichment, quads with barycentre vertices along rulings, §2.2).
+//!   Here S_G's regions, rulings and cones are computed *on* the fixed S_P lattice (a region is
+//!   a set of S_P triangles; a ruling is a traced pattern line), and S_P is not re-meshed:
+//!   strip cutting marks the strip's triangles curved instead of inserting rulings, cone
+//!   **realignment and boundary resampling** (§3.7 steps 4–6) and the state transfer to a new
+//!   S_P (§2.2.5) therefore have nothing to act on and are not done. Reasons: the physics
+//!   solver's sparse factorization, the allocation-free step, the plugin's preallocated mesh
+//!   and per-vertex contacts all stay valid; and our physics on the fixed lattice already
+//!   measures c_mean ≈ 0.03 %, well inside the seeds' post-remeshing figures.
+//! - **A singular point lives on an S_P vertex.** s̄ is sampled with the seeds' law and σ and
+//!   recorded ([`SingularPoint::sampled2`]), but the d-cone apex is the eligible S_P vertex
+//!   nearest to it among the two faces of ē_sing (interior, not held, not yet singular):
+//!   placement resolution is the S_P edge length (≈ 1.1 cm on the 10 cm sheet, 3.3 cm on A4),
+//!   not σ. When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
+//! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
+//!   triangulation of a flat region show a fold across its other diagonal; here flat regions
+//!   are unions of S_P triangles whose own edges carry every fold, so there is no coarse
+//!   triangulation to flip (and S_P's connectivity is kept, above).
+//! - **Curvature analysis on the fine mesh** replaces the seeds' per-region ruling bookkeeping:
+//!   region classification uses the discrete shape operator with the seeds' thresholds.
+//!
+//! ## Digest §9 discrepancies, resolved
+//!
+//! | # | resolution here |
+//! |---|---|
+//! | 1 σ | 0.1 cm for printer and banknote, 0.05 cm for tracing ([`crate::material`]); `GeometryConfig::sigma_m` overrides |
+//! | 2 ρ | ρ_bound = 1.2/cm bounds the ruling spacing from below; S_P density is [`crate::sheet::MeshConfig`] (≈ 130–190 triangles) |
+//! | 3 order | Fig. 16 order (analysis → junctions/classification → cones → isometry); classification runs first since it also decides which triangles are analysed |
+//! | 4 t_iso | per-frame budget = Table V: Phase I is capped at `IsometryConfig::phase1_max_iters` (40, stops early), not run to convergence |
+//! | 5 N_s | tests use ≥ 15 for the full crumple |
+//! | 6 ε_blaschke | RMS distance √(e/N) compared with 0.5 % L_paper |
+//! | 7 λ | c_t = 1 − λ_min |
+//! | 8 fibre damage | interior singular vertices only, sign of the fold at creation, D = 10 applied |
+//! | 9 tangent control | handled by [`crate::handles`] (2 neighbours on a border, up to 4 at a corner) |
+//! | 10 span removed around a new singularity | no rulings are stored per triangle, so nothing is removed: the new apex's fan is what the region partition and cone fit see next frame |
+//! | 11 W_stress | standard StVK ([`crate::physics::membrane`]) |
+//! | 12 a_max | ridges are rulings with dihedral > [`RIDGE_RAD`] = 0.5 rad |
+//! | 13 Algorithm 3 | closed-interval segmentation ([`cone::segment`]) |
+//!
+//! ## Allocation and determinism
+//!
+//! Every buffer is sized in [`GeometryLayer::new`] from S_P (whose connectivity never changes);
+//! `update` only writes into them (sorts are in-place `sort_unstable_by` with index
+//! tie-breaks). The only randomness is the layer's own `Pcg32`, seeded from the sheet's seed
+//! and saved with the sheet.
+
+pub mod cone;
+pub mod isometry;
+pub mod placement;
+pub mod stretch;
+pub mod walk;
+
+use rand::SeedableRng;
+
+use crate::collision::{CONTACT_SKIN_M, Obstacles};
+use crate::material::PaperMaterial;
+use crate::math::{V2, V3, sym2_eigen};
+use crate::physics::bending::dihedral;
+use crate::sheet::geometric::{GVertex, GeomStructure, VKind};
+use crate::sheet::physical::PhysMesh;
+use crate::sheet::topology::NONE;
+use cone::{RulingPlane, apex_in_pattern, gap_apex, segment};
+use isometry::{Isometry, IsometryConfig, IsometryReport};
+
+/// Coplanarity threshold θ0 (P 1515–1519, Table VI), radians.
+pub const THETA0_RAD: f64 = 0.01;
+/// Junction hysteresis: a curved triangle turns flat below θ_low = θ0/10 (P 792).
+pub const THETA_LOW_RAD: f64 = THETA0_RAD / 10.0;
+/// Junction hysteresis: a flat triangle turns curved above θ_high = θ0 (P 792).
+pub const THETA_HIGH_RAD: f64 = THETA0_RAD;
+/// Plastic rest-angle budget per singular vertex Θ_rest = π/8 (P 510–518, T 775).
+pub const THETA_REST_RAD: f64 = std::f64::consts::PI / 8.0;
+/// Bending damage per singular vertex D = 10 (T 767–775).
+pub const DAMAGE_D: f64 = 10.0;
+/// Boundary sampling density ρ_bound = 1.2 per cm (Table VI), per metre.
+pub const RHO_BOUND_PER_M: f64 = 120.0;
+/// ε_blaschke as a fraction of L_paper (0.5 %, Table VI).
+pub const EPS_BLASCHKE_FRAC: f64 = 0.005;
+/// Ridge threshold a_max of the sound model (digest §9 item 12), radians.
+pub const RIDGE_RAD: f64 = 0.5;
+/// Largest angle between v⊥ and a curved region's rulings for the propagation to merge into
+/// it instead of conflicting (impl. choice), radians.
+pub const CONFLICT_RAD: f64 = 0.35;
+/// A triangle's ruling direction is well defined when its small principal curvature is
+/// below this fraction of the large one (|κ_small/κ_big|; a twisted, saddle-like triangle has
+/// ≈ 1 and has no ruling to conflict with).
+pub const ANISO_MAX: f64 = 0.3;
+/// An edge whose |θ| exceeds this × the sum of the triangle's two other |θ| (plus θ0) is a
+/// crease bounding a flat facet, not part of the facet's curvature (impl. choice).
+pub const CREASE_DOMINANCE: f64 = 4.0;
+/// Frames a triangle that started a propagation pass waits before starting another.
+pub const REFRACTORY_FRAMES: u64 = 20;
+/// Cosine of the largest facet rotation the isometry step may make in one frame (0.3 rad).
+pub const ISO_MAX_TURN_COS: f64 = 0.955_336_489_125_606;
+/// A vertex jump above this is reported as an event, metres.
+pub const JUMP_EVENT_M: f64 = 5e-4;
+/// Capacity of the per-frame event list.
+pub const MAX_EVENTS: usize = 64;
+/// Longest propagation walk, in triangles.
+const MAX_WALK: usize = 256;
+
+/// Settings of the geometry layer (part of [`crate::SimConfig`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeometryConfig {
+    /// Run the layer at all (off = physics only, for comparisons).
+    pub enabled: bool,
+    /// Compression limit ε_c override (fraction); `None` = the material's.
+    pub eps_c: Option<f64>,
+    /// Placement spread σ override, metres; `None` = the material's.
+    pub sigma_m: Option<f64>,
+    /// Propagation passes per frame (digest §3.4: repeat until no compressed flat triangle;
+    /// capped, rechecked next frame).
+    pub max_passes: u32,
+    /// New singular vertices per frame, at most.
+    pub max_new_singular_per_frame: u32,
+    /// A curved triangle compressed along its own rulings starts a pass only when its
+    /// compression exceeds this × ε_c (impl. choice, see the module doc).
+    pub curved_eps_factor: f64,
+    /// The isometry optimizer.
+    pub isometry: IsometryConfig,
+}
+
+impl Default for GeometryConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            eps_c: None,
+            sigma_m: None,
+            max_passes: 4,
+            max_new_singular_per_frame: 1,
+            curved_eps_factor: 10.0,
+            isometry: IsometryConfig::default(),
+        }
+    }
+}
+
+impl GeometryConfig {
+    /// Returns a copy with every value finite and in range.
+    pub fn sanitized(self) -> Self {
+        let mut c = self;
+        c.eps_c = c.eps_c.filter(|e| e.is_finite() && *e > 0.0 && *e < 0.5);
+        c.sigma_m = c.sigma_m.filter(|s| s.is_finite() && *s >= 0.0 && *s < 0.1);
+        c.max_passes = c.max_passes.min(64);
+        c.max_new_singular_per_frame = c.max_new_singular_per_frame.min(16);
+        if !(c.curved_eps_factor.is_finite() && c.curved_eps_factor >= 1.0) {
+            c.curved_eps_factor = Self::default().curved_eps_factor;
+        }
+        let i = &mut c.isometry;
+        i.phase1_max_iters = i.phase1_max_iters.min(200);
+        i.phase2_max_iters = i.phase2_max_iters.min(1000);
+        let d = IsometryConfig::default();
+        if !(i.phase1_tol.is_finite() && i.phase1_tol >= 0.0) {
+            i.phase1_tol = d.phase1_tol;
+        }
+        if !(i.phase2_rel_tol.is_finite() && i.phase2_rel_tol > 0.0) {
+            i.phase2_rel_tol = d.phase2_rel_tol;
+        }
+        if !(i.proximity.is_finite() && i.proximity > 0.0 && i.proximity < 1e3) {
+            i.proximity = d.proximity;
+        }
+        if i.max_speed_m_s.is_nan() || i.max_speed_m_s < 0.0 {
+            i.max_speed_m_s = d.max_speed_m_s;
+        }
+        c
+    }
+}
+
+/// Kind of an S_P triangle in the partition.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TriKind {
+    /// Part of a flat region (coplanar with its flat neighbours).
+    #[default]
+    Flat,
+    /// Part of a curved region (a generalized cone).
+    Curved,
+    /// Incident to an interior singular vertex (a d-cone's neighbourhood); its region is
+    /// still given by `tri_region`.
+    SingularFan,
+}
+
+/// Kind of a region.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RegionKind {
+    /// A flat region: a *constrained* resonator for the sound model (T 1768).
+    #[default]
+    Flat,
+    /// A curved region: an *unconstrained* resonator with free curved borders.
+    Curved,
+    /// A crease between two flat regions: a degenerate curved region with one ruling (T 740).
+    Crease,
+}
+
+/// One region of the partition.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Region {
+    /// Kind.
+    pub kind: RegionKind,
+    /// S_P triangles in it (0 for a crease).
+    pub num_triangles: u32,
+    /// Pattern area, m².
+    pub area_m2: f64,
+    /// l_c: total pattern length of its free curved border edges (curved regions), metres.
+    pub free_border_len_m: f64,
+    /// Free border edges (entries of [`GeometryFrame::free_borders`]).
+    pub num_free_border_edges: u32,
+    /// Its rulings are `rulings[first_ruling .. first_ruling + num_rulings]`, ordered across
+    /// the region.
+    pub first_ruling: u32,
+    /// Number of rulings.
+    pub num_rulings: u32,
+    /// l_r: mean pattern length of its rulings, metres (0 without rulings).
+    pub mean_ruling_len_m: f64,
+    /// Largest |dihedral| of its rulings, radians.
+    pub max_abs_dihedral_rad: f64,
+    /// Index into [`GeometryFrame::singular`] of an interior singular vertex in it (the
+    /// region is then one cone with that apex), `u32::MAX` if none.
+    pub singular_apex: u32,
+}
+
+/// One ruling: a straight line of the pattern, isometric to a straight segment in 3D.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RulingInfo {
+    /// Region it belongs to.
+    pub region: u32,
+    /// Pattern endpoints, metres.
+    pub a2: V2,
+    /// Pattern endpoints, metres.
+    pub b2: V2,
+    /// 3D endpoints (interpolated on S_P), metres.
+    pub a3: V3,
+    /// 3D endpoints, metres.
+    pub b3: V3,
+    /// Pattern length, metres.
+    pub length_m: f64,
+    /// Signed dihedral angle across the ruling, radians (ridges: |·| > [`RIDGE_RAD`]).
+    pub dihedral_rad: f64,
+    /// Unit tangent-plane normal along the ruling (the cone fit's n_i).
+    pub normal: V3,
+    /// The S_P edge for a crease ruling, `u32::MAX` for a traced one.
+    pub sp_edge: u32,
+}
+
+/// A free curved border edge (an S_P boundary edge of a curved region, T 1704, 1721).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FreeBorderEdge {
+    /// Region.
+    pub region: u32,
+    /// S_P edge.
+    pub edge: u32,
+    /// Pattern length, metres.
+    pub length_m: f64,
+}
+
+/// How a singular vertex was born (§3.5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SingularCase {
+    /// Case B: the propagation hit a crease between flat regions (Fig. 6c).
+    #[default]
+    Crease,
+    /// Case A: the propagation met conflicting rulings of a curved region (Fig. 6d).
+    CurvedRegion,
+    /// Restored from a saved sheet of version 2, which did not record the case.
+    Restored,
+}
+
+/// A persistent interior singular vertex (d-cone apex).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SingularPoint {
+    /// Its S_P vertex.
+    pub sp_vertex: u32,
+    /// The position drawn by the placement law, metres (pattern).
+    pub sampled2: V2,
+    /// Pattern position of the vertex (fixed forever), metres.
+    pub pos2: V2,
+    /// Current 3D position, metres.
+    pub pos3: V3,
+    /// Frame it was created in.
+    pub created_frame: u64,
+    /// Case.
+    pub case: SingularCase,
+}
+
+/// A generalized cone (or gap cone) of a curved region.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ConeInfo {
+    /// Region.
+    pub region: u32,
+    /// Apex in the pattern, `None` at infinity (generalized cylinder).
+    pub apex2: Option<V2>,
+    /// Apex in 3D, `None` at infinity.
+    pub apex3: Option<V3>,
+    /// First ruling (index into [`GeometryFrame::rulings`]).
+    pub first_ruling: u32,
+    /// Last ruling (inclusive).
+    pub last_ruling: u32,
+    /// Gap (junction) cone between two fitted cones (P 895–901).
+    pub is_gap: bool,
+    /// RMS plane–apex distance of the fit, metres.
+    pub rms_m: f64,
+}
+
+/// A sudden shape change of this frame (a "clac" candidate, T 1261).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShapeEvent {
+    /// A new interior singular vertex.
+    SingularCreated {
+        /// Index into [`GeometryFrame::singular`].
+        singular: u32,
+        /// Its S_P vertex.
+        sp_vertex: u32,
+        /// How.
+        case: SingularCase,
+        /// Compression c_t of the triangle that started the propagation.
+        compression: f64,
+        /// |dihedral| of ē_sing, radians.
+        dihedral_rad: f64,
+    },
+    /// A compressed flat strip became curved (a new curved region, or a grown one).
+    StripCurved {
+        /// Triangles in the strip.
+        num_triangles: u32,
+        /// Compression c_t of T_comp.
+        compression: f64,
+        /// True when both borders were free (a new generalized cylinder).
+        cylinder: bool,
+    },
+    /// Curved triangles turned flat (regions flattened or shrunk).
+    Flattened {
+        /// Triangles that turned flat.
+        num_triangles: u32,
+    },
+    /// The number of flat regions grew (a flat region split along a bent edge).
+    FlatRegionSplit {
+        /// Flat regions before.
+        before: u32,
+        /// Flat regions after.
+        after: u32,
+    },
+    /// Junction points appeared or disappeared.
+    JunctionsMoved {
+        /// Boundary vertices whose junction status changed.
+        count: u32,
+    },
+    /// The geometry layer moved a vertex by more than [`JUMP_EVENT_M`].
+    VertexJump {
+        /// S_P vertex.
+        vertex: u32,
+        /// Distance, metres.
+        jump_m: f64,
+    },
+}
+
+/// Per-frame output of the geometry layer (read with `Sim::geometry`).
+///
+/// All per-triangle arrays are indexed like S_P triangles, vertex indices are S_P vertices
+/// (the same indexing as `Sim::contacts`, which gives the contact vertices and their slip
+/// speeds). Sound: per region, `mean_ruling_len_m` is l_r and `free_border_len_m` is l_c;
+/// ridges are rulings with |dihedral| > [`RIDGE_RAD`]; `events` are this frame's sudden
+/// changes. The lists are cleared and refilled every awake frame; `singular` only grows.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GeometryFrame {
+    /// Frame these outputs belong to.
+    pub frame: u64,
+    /// Region of every S_P triangle (index into `regions`).
+    pub tri_region: Vec<u32>,
+    /// Kind of every S_P triangle.
+    pub tri_kind: Vec<TriKind>,
+    /// Regions: flat and curved ones first (in order of their lowest triangle), then creases.
+    pub regions: Vec<Region>,
+    /// Rulings, contiguous per region.
+    pub rulings: Vec<RulingInfo>,
+    /// Free curved border edges.
+    pub free_borders: Vec<FreeBorderEdge>,
+    /// Persistent interior singular vertices, in creation order (never shrinks).
+    pub singular: Vec<SingularPoint>,
+    /// Cones and gap cones of the curved regions.
+    pub cones: Vec<ConeInfo>,
+    /// Junction points (boundary S_P vertices between a flat and a curved triangle).
+    pub junctions: Vec<u32>,
+    /// Signed dihedral angle of every S_P edge, radians (0 on the boundary).
+    pub edge_dihedral_rad: Vec<f64>,
+    /// This frame's sudden shape changes (at most [`MAX_EVENTS`]; `events_dropped` counts
+    /// the rest).
+    pub events: Vec<ShapeEvent>,
+    /// Events that did not fit.
+    pub events_dropped: u32,
+    /// Number of flat regions.
+    pub num_flat_regions: u32,
+    /// Number of curved regions (creases not counted).
+    pub num_curved_regions: u32,
+    /// Number of crease regions.
+    pub num_creases: u32,
+    /// Largest compression c_t over flat triangles this frame.
+    pub max_flat_compression: f64,
+    /// Largest compression c_t over curved triangles compressed along their rulings.
+    pub max_curved_compression: f64,
+    /// Largest vertex displacement made by the layer this frame, metres.
+    pub max_vertex_jump_m: f64,
+    /// Boundary vertices whose junction status changed this frame.
+    pub junction_moves: u32,
+    /// The isometry optimizer's report.
+    pub isometry: IsometryReport,
+    /// The isometry result was discarded this frame because it would have turned a triangle
+    /// over.
+    pub isometry_reverted: bool,
+}
+
+impl GeometryFrame {
+    fn push_event(&mut self, e: ShapeEvent) {
+        if self.events.len() < MAX_EVENTS {
+            self.events.push(e);
+        } else {
+            self.events_dropped += 1;
+        }
+    }
+
+    /// Mean ruling length l_r and free-border length l_c of a region (sound model, T 1800).
+    pub fn resonator_sizes(&self, region: u32) -> Option<(f64, f64)> {
+        let r = self.regions.get(region as usize)?;
+        Some((r.mean_ruling_len_m, r.free_border_len_m))
+    }
+
+    /// Rulings of a region.
+    pub fn region_rulings(&self, region: u32) -> &[RulingInfo] {
+        match self.regions.get(region as usize) {
+            Some(r) => {
+                let a = r.first_ruling as usize;
+                &self.rulings[a..a + r.num_rulings as usize]
+            }
+            None => &[],
+        }
+    }
+
+    /// Ridges: rulings bent beyond [`RIDGE_RAD`].
+    pub fn ridges(&self) -> impl Iterator<Item = &RulingInfo> {
+        self.rulings
+            .iter()
+            .filter(|r| r.dihedral_rad.abs() > RIDGE_RAD)
+    }
+}
+
+/// The persistent state of the layer as saved with a sheet.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SavedGeometry {
+    /// Curved flag per S_P triangle.
+    pub curved: Vec<bool>,
+    /// Refractory end frame per S_P triangle.
+    pub refractory_until: Vec<u64>,
+    /// Singular points: (S_P vertex, sampled pattern position, creation frame, case 0/1/2).
+    pub singular: Vec<(u32, [f64; 2], u64, u8)>,
+    /// The layer's random number generator.
+    pub rng: rand_pcg::Pcg32,
+}
+
+/// Where a propagation direction ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Border {
+    /// Sheet boundary: a free border.
+    Free,
+    /// A curved region with compatible rulings (it grows).
+    Compatible,
+    /// A crease edge (case B).
+    Crease(u32),
+    /// A bent ruling inside a conflicting curved region (case A).
+    InCurved(u32),
+    /// The walk failed (degenerate) or ran too long.
+    None,
+}
+
+/// The geometry layer: persistent state and preallocated workspace.
+#[derive(Clone, Debug)]
+pub struct GeometryLayer {
+    cfg: GeometryConfig,
+    eps_c: f64,
+    sigma_m: f64,
+    l_paper_m: f64,
+    spacing_m: f64,
+    theta_sing: f64,
+    out: GeometryFrame,
+    curved: Vec<bool>,
+    prev_curved: Vec<bool>,
+    refractory_until: Vec<u64>,
+    is_singular: Vec<bool>,
+    near_held: Vec<bool>,
+    tri_kappa: Vec<f64>,
+    tri_aniso: Vec<f64>,
+    tri_ruling: Vec<V2>,
+    tri_bend: Vec<f64>,
+    tri_normal: Vec<V3>,
+    tri_h: Vec<f64>,
+    uf: Vec<u32>,
+    root_region: Vec<u32>,
+    order: Vec<u32>,
+    covered: Vec<bool>,
+    ruling_tris: Vec<u32>,
+    strip: Vec<u32>,
+    vflat: Vec<bool>,
+    vcurved: Vec<bool>,
+    junction_prev: Vec<bool>,
+    planes: Vec<RulingPlane>,
+    pos_before: Vec<V3>,
+    iso: Isometry,
+    rng: rand_pcg::Pcg32,
+    frames_processed: u64,
+}
+
+fn find(uf: &mut [u32], mut x: u32) -> u32 {
+    while uf[x as usize] != x {
+        let p = uf[uf[x as usize] as usize];
+        uf[x as usize] = p;
+        x = p;
+    }
+    x
+}
+
+fn union(uf: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(uf, a), find(uf, b));
+    if ra != rb {
+        // Lower index wins: deterministic roots.
+        let (lo, hi) = (ra.min(rb), ra.max(rb));
+        uf[hi as usize] = lo;
+    }
+}
+
+/// Seed of the layer's generator, derived from the sheet's seed (a separate stream from the
+/// gesture rig's).
+fn layer_seed(seed: u64) -> u64 {
+    seed ^ 0x9e37_79b9_7f4a_7c15
+}
+
+impl GeometryLayer {
+    /// A layer for `sp` (a new, flat sheet: every triangle flat, no singular vertex).
+    pub fn new(sp: &PhysMesh, cfg: GeometryConfig, mat: &PaperMaterial, seed: u64) -> Self {
+        let cfg = cfg.sanitized();
+        let (nv, nt, ne) = (sp.num_vertices(), sp.num_triangles(), sp.num_edges());
+        let (mut lo, mut hi) = (V2::repeat(f64::MAX), V2::repeat(f64::MIN));
+        for q in &sp.pattern {
+            lo = lo.inf(q);
+            hi = hi.sup(q);
+        }
+        let ext = hi - lo;
+        let spacing_m = sp.edge_rest_len_m.iter().sum::<f64>() / ne.max(1) as f64;
+        let nreg = nt + ne;
+        let out = GeometryFrame {
+            tri_region: vec![0; nt],
+            tri_kind: vec![TriKind::Flat; nt],
+            regions: Vec::with_capacity(nreg),
+            rulings: Vec::with_capacity(nreg),
+            free_borders: Vec::with_capacity(ne),
+            singular: Vec::with_capacity(nv),
+            cones: Vec::with_capacity(2 * nreg),
+            junctions: Vec::with_capacity(nv),
+            edge_dihedral_rad: vec![0.0; ne],
+            events: Vec::with_capacity(MAX_EVENTS),
+            ..GeometryFrame::default()
+        };
+        let mut s = Self {
+            cfg,
+            eps_c: 0.0,
+            sigma_m: 0.0,
+            l_paper_m: ext.x.max(ext.y).max(1e-6),
+            spacing_m,
+            theta_sing: THETA0_RAD * (spacing_m * RHO_BOUND_PER_M).max(1.0),
+            out,
+            curved: vec![false; nt],
+            prev_curved: vec![false; nt],
+            refractory_until: vec![0; nt],
+            is_singular: vec![false; nv],
+            near_held: vec![false; nv],
+            tri_kappa: vec![0.0; nt],
+            tri_aniso: vec![1.0; nt],
+            tri_ruling: vec![V2::x(); nt],
+            tri_bend: vec![0.0; nt],
+            tri_normal: vec![V3::z(); nt],
+            tri_h: sp
+                .tri_rest
+                .iter()
+                .map(|r| (4.0 * r.area_m2 / 3f64.sqrt()).sqrt())
+                .collect(),
+            uf: (0..nt as u32).collect(),
+            root_region: vec![NONE; nt],
+            order: Vec::with_capacity(nt),
+            covered: vec![false; nt],
+            ruling_tris: Vec::with_capacity(2 * MAX_WALK + 2),
+            strip: Vec::with_capacity(2 * MAX_WALK + 2),
+            vflat: vec![false; nv],
+            vcurved: vec![false; nv],
+            junction_prev: vec![false; nv],
+            planes: Vec::with_capacity(nreg),
+            pos_before: vec![V3::zeros(); nv],
+            iso: Isometry::new(sp),
+            rng: rand_pcg::Pcg32::seed_from_u64(layer_seed(seed)),
+            frames_processed: 0,
+        };
+        s.set_material(mat);
+        for &v in &sp.singular {
+            s.is_singular[v as usize] = true;
+        }
+        s.refresh(sp);
+        s
+    }
+
+    /// Publishes the partition, rulings and cones of the current shape without changing
+    /// anything (a new or restored sheet, before its first awake frame).
+    fn refresh(&mut self, sp: &PhysMesh) {
+        self.analyse_shape(sp);
+        self.partition(sp);
+        self.trace_rulings(sp);
+        self.fit_cones();
+        self.out.events.clear();
+        self.out.junction_moves = 0;
+    }
+
+    /// Applies a material's ε_c and σ (unless overridden by the configuration).
+    pub fn set_material(&mut self, mat: &PaperMaterial) {
+        self.eps_c = self.cfg.eps_c.unwrap_or(mat.eps_c);
+        self.sigma_m = self.cfg.sigma_m.unwrap_or(mat.sigma_m);
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &GeometryConfig {
+        &self.cfg
+    }
+
+    /// Compression limit ε_c in use.
+    pub fn eps_c(&self) -> f64 {
+        self.eps_c
+    }
+
+    /// Placement spread σ in use, metres.
+    pub fn sigma_m(&self) -> f64 {
+        self.sigma_m
+    }
+
+    /// The outputs of the last processed frame.
+    pub fn frame(&self) -> &GeometryFrame {
+        &self.out
+    }
+
+    /// Work counter: frames the layer processed (does not move while the sheet sleeps).
+    pub fn frames_processed(&self) -> u64 {
+        self.frames_processed
+    }
+
+    /// Clears the per-frame event list (a frame in which the layer did not run).
+    pub fn idle_frame(&mut self, frame: u64) {
+        self.out.frame = frame;
+        self.out.events.clear();
+        self.out.events_dropped = 0;
+        self.out.max_vertex_jump_m = 0.0;
+        self.out.junction_moves = 0;
+    }
+
+    /// The persistent state, for saving.
+    pub fn save(&self) -> SavedGeometry {
+        SavedGeometry {
+            curved: self.curved.clone(),
+            refractory_until: self.refractory_until.clone(),
+            singular: self
+                .out
+                .singular
+                .iter()
+                .map(|s| {
+                    let case = match s.case {
+                        SingularCase::Crease => 0,
+                        SingularCase::CurvedRegion => 1,
+                        SingularCase::Restored => 2,
+                    };
+                    (
+                        s.sp_vertex,
+                        [s.sampled2.x, s.sampled2.y],
+                        s.created_frame,
+                        case,
+                    )
+                })
+                .collect(),
+            rng: self.rng.clone(),
+        }
+    }
+
+    /// Restores the persistent state (after `new` on the restored S_P). Without saved state
+    /// (a version-2 sheet) the singular vertices are taken from `sp.singular` and everything
+    /// else starts fresh. Errors name the inconsistent field.
+    pub fn restore(
+        &mut self,
+        sp: &PhysMesh,
+        sg: &mut GeomStructure,
+        saved: Option<&SavedGeometry>,
+    ) -> Result<(), String> {
+        let (nt, nv) = (sp.num_triangles(), sp.num_vertices());
+        self.out.singular.clear();
+        for f in &mut self.is_singular {
+            *f = false;
+        }
+        match saved {
+            Some(g) => {
+                if g.curved.len() != nt || g.refractory_until.len() != nt {
+                    return Err("geometry state does not match the mesh".into());
+                }
+                if g.singular.len() != sp.singular.len()
+                    || g.singular.iter().zip(&sp.singular).any(|(a, &b)| a.0 != b)
+                {
+                    return Err("geometry singular list does not match the sheet's".into());
+                }
+                self.curved.copy_from_slice(&g.curved);
+                self.refractory_until.copy_from_slice(&g.refractory_until);
+                self.rng = g.rng.clone();
+                for &(v, s2, f, c) in &g.singular {
+                    if v as usize >= nv || !(s2[0].is_finite() && s2[1].is_finite()) || c > 2 {
+                        return Err("bad geometry singular entry".into());
+                    }
+                    let case = match c {
+                        0 => SingularCase::Crease,
+                        1 => SingularCase::CurvedRegion,
+                        _ => SingularCase::Restored,
+                    };
+                    self.push_singular(sp, v, V2::new(s2[0], s2[1]), f, case);
+                }
+            }
+            None => {
+                for &v in &sp.singular {
+                    self.push_singular(sp, v, sp.pattern[v as usize], 0, SingularCase::Restored);
+                }
+            }
+        }
+        self.prev_curved.copy_from_slice(&self.curved);
+        sync_sg_singular(sg, sp);
+        self.refresh(sp);
+        Ok(())
+    }
+
+    fn push_singular(
+        &mut self,
+        sp: &PhysMesh,
+        v: u32,
+        sampled2: V2,
+        frame: u64,
+        case: SingularCase,
+    ) {
+        self.is_singular[v as usize] = true;
+        self.out.singular.push(SingularPoint {
+            sp_vertex: v,
+            sampled2,
+            pos2: sp.pattern[v as usize],
+            pos3: sp.pos[v as usize],
+            created_frame: frame,
+            case,
+        });
+    }
+
+    /// Runs steps (d)–(h) on an awake frame. `fixed`: vertices held this frame (kept in place
+    /// by the isometry step).
+    pub fn update(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        fixed: &[bool],
+        obstacles: &Obstacles,
+        frame: u64,
+    ) {
+        self.frames_processed += 1;
+        self.out.frame = frame;
+        self.out.events.clear();
+        self.out.events_dropped = 0;
+        self.analyse_shape(sp);
+        self.classify();
+        let flats_before = self.out.num_flat_regions;
+        self.treat_compression(sp, sg, fixed, frame);
+        self.partition(sp);
+        if flats_before > 0 && self.out.num_flat_regions > flats_before {
+            let after = self.out.num_flat_regions;
+            self.out.push_event(ShapeEvent::FlatRegionSplit {
+                before: flats_before,
+                after,
+            });
+        }
+        self.trace_rulings(sp);
+        self.fit_cones();
+        self.isometry(sp, fixed, obstacles);
+        for s in &mut self.out.singular {
+            s.pos3 = sp.pos[s.sp_vertex as usize];
+        }
+    }
+
+    /// Step 1: dihedral angles, shape operators, ruling directions, bends.
+    fn analyse_shape(&mut self, sp: &PhysMesh) {
+        let th = &mut self.out.edge_dihedral_rad;
+        for h in &sp.hinges {
+            let x = h.v.map(|i| sp.pos[i as usize]);
+            let a = dihedral(&x);
+            th[h.edge as usize] = if a.is_finite() { a } else { 0.0 };
+        }
+        let topo = &sp.topo;
+        for t in 0..sp.num_triangles() {
+            let tri = sp.triangles[t];
+            let area = sp.tri_rest[t].area_m2;
+            // A crease: one edge much sharper than the other two bounds a flat facet; it is
+            // left out of the facet's own curvature (the seeds' flat regions separated by an
+            // edge between two flat regions, T 740).
+            let mut ths = [0.0f64; 3];
+            for (k, th_k) in ths.iter_mut().enumerate() {
+                let e = topo.he_edge[3 * t + k] as usize;
+                if !topo.edges[e].is_boundary() {
+                    *th_k = th[e];
+                }
+            }
+            let kmax = (0..3)
+                .max_by(|&i, &j| ths[i].abs().total_cmp(&ths[j].abs()))
+                .unwrap_or(0);
+            let others: f64 = (0..3).filter(|&k| k != kmax).map(|k| ths[k].abs()).sum();
+            let crease_k = (ths[kmax].abs() >= THETA0_RAD
+                && ths[kmax].abs() > CREASE_DOMINANCE * others + THETA0_RAD)
+                .then_some(kmax);
+            let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
+            for k in 0..3 {
+                if Some(k) == crease_k || ths[k] == 0.0 {
+                    continue;
+                }
+                let p = sp.pattern[tri[k] as usize];
+                let q = sp.pattern[tri[(k + 1) % 3] as usize];
+                let d = q - p;
+                let len = d.norm();
+                if len <= 0.0 {
+                    continue;
+                }
+                let m = V2::new(d.y, -d.x) / len;
+                let w = ths[k] * len / (2.0 * area);
+                a += w * m.x * m.x;
+                b += w * m.x * m.y;
+                c += w * m.y * m.y;
+            }
+            let (lo, hi, vlo) = sym2_eigen(a, b, c);
+            let (kappa, ruling) = if lo.abs() >= hi.abs() {
+                (lo, V2::new(-vlo.y, vlo.x))
+            } else {
+                (hi, vlo)
+            };
+            self.tri_kappa[t] = kappa;
+            let small = if lo.abs() >= hi.abs() { hi } else { lo };
+            self.tri_aniso[t] = if kappa != 0.0 {
+                (small / kappa).abs()
+            } else {
+                1.0
+            };
+            self.tri_ruling[t] = ruling;
+            self.tri_bend[t] = kappa.abs() * self.tri_h[t];
+            let x = tri.map(|i| sp.pos[i as usize]);
+            self.tri_normal[t] = (x[1] - x[0])
+                .cross(&(x[2] - x[0]))
+                .try_normalize(0.0)
+                .unwrap_or_else(V3::z);
+        }
+    }
+
+    /// Step 2: flat/curved hysteresis per triangle.
+    fn classify(&mut self) {
+        self.prev_curved.copy_from_slice(&self.curved);
+        for t in 0..self.curved.len() {
+            let b = self.tri_bend[t];
+            if self.curved[t] {
+                if b < THETA_LOW_RAD {
+                    self.curved[t] = false;
+                }
+            } else if b > THETA_HIGH_RAD {
+                self.curved[t] = true;
+            }
+        }
+    }
+
+    /// Steps 3–6: compression analysis, propagation, singular vertices, fibre damage.
+    fn treat_compression(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        fixed: &[bool],
+        frame: u64,
+    ) {
+        let mut new_singular = 0u32;
+        self.out.max_flat_compression = 0.0;
+        for (v, n) in self.near_held.iter_mut().enumerate() {
+            *n = fixed[v];
+        }
+        for e in &sp.topo.edges {
+            let (a, b) = (e.v[0] as usize, e.v[1] as usize);
+            if fixed[a] || fixed[b] {
+                self.near_held[a] = true;
+                self.near_held[b] = true;
+            }
+        }
+        let cos_along = CONFLICT_RAD.cos();
+        self.out.max_curved_compression = 0.0;
+        for pass in 0..self.cfg.max_passes {
+            // Most compressed flat triangle, or curved triangle compressed along its own
+            // rulings (a conflict with its ruling family, case A).
+            let mut best: Option<(f64, usize, stretch::Stretch)> = None;
+            for t in 0..sp.num_triangles() {
+                let x = sp.triangles[t].map(|i| sp.pos[i as usize]);
+                let s = stretch::stretch_tensor(&x, &sp.tri_rest[t].dm_inv);
+                let c = s.compression();
+                if !c.is_finite() {
+                    continue;
+                }
+                // Triangles in a hand's pinch (touching a held vertex or one of its
+                // neighbours) are strained by the hard constraint itself.
+                if sp.triangles[t].iter().any(|&v| self.near_held[v as usize]) {
+                    continue;
+                }
+                if self.curved[t] {
+                    // Compression along a well-defined ruling direction (v ∥ r̄_t).
+                    if self.tri_aniso[t] > ANISO_MAX
+                        || s.v.dot(&self.tri_ruling[t]).abs() < cos_along
+                    {
+                        continue;
+                    }
+                    if pass == 0 {
+                        self.out.max_curved_compression = self.out.max_curved_compression.max(c);
+                    }
+                    if c <= self.eps_c * self.cfg.curved_eps_factor {
+                        continue;
+                    }
+                } else if pass == 0 {
+                    self.out.max_flat_compression = self.out.max_flat_compression.max(c);
+                }
+                if c > self.eps_c
+                    && self.refractory_until[t] <= frame
+                    && best.is_none_or(|b| c > b.0)
+                {
+                    best = Some((c, t, s));
+                }
+            }
+            let Some((c_t, t_comp, s)) = best else {
+                break;
+            };
+            let borders = if self.curved[t_comp] {
+                // Compression along the rulings of a curved region: the singular point goes
+                // about its most bent edge (the first strongly bent ruling, P 700–704).
+                self.strip.clear();
+                self.strip.push(t_comp as u32);
+                let mut e_best: Option<(f64, u32)> = None;
+                for k in 0..3 {
+                    let e = sp.topo.he_edge[3 * t_comp + k];
+                    let th = self.out.edge_dihedral_rad[e as usize].abs();
+                    if !sp.topo.edges[e as usize].is_boundary() && e_best.is_none_or(|b| th > b.0) {
+                        e_best = Some((th, e));
+                    }
+                }
+                match e_best {
+                    Some((th, e)) if th > self.theta_sing => [Border::InCurved(e), Border::None],
+                    _ => [Border::None, Border::None],
+                }
+            } else {
+                self.propagate(sp, t_comp as u32, s.v_perp)
+            };
+            let mut made = 0;
+            for b in borders {
+                let (edge, case) = match b {
+                    Border::Crease(e) => (e, SingularCase::Crease),
+                    Border::InCurved(e) => (e, SingularCase::CurvedRegion),
+                    _ => continue,
+                };
+                if new_singular >= self.cfg.max_new_singular_per_frame {
+                    continue;
+                }
+                if self.create_singular(sp, sg, fixed, edge, case, c_t, frame) {
+                    new_singular += 1;
+                    made += 1;
+                }
+            }
+            let cylinder = borders.iter().all(|b| *b == Border::Free);
+            let was_curved = self.curved[t_comp];
+            for &t in &self.strip {
+                self.curved[t as usize] = true;
+                self.refractory_until[t as usize] = frame + REFRACTORY_FRAMES;
+            }
+            if made == 0 && !was_curved {
+                let n = self.strip.len() as u32;
+                self.out.push_event(ShapeEvent::StripCurved {
+                    num_triangles: n,
+                    compression: c_t,
+                    cylinder,
+                });
+            }
+        }
+    }
+
+    /// Step 4: imaginary-ruling propagation from `t_comp` along ±`v_perp`; fills `strip`.
+    fn propagate(&mut self, sp: &PhysMesh, t_comp: u32, v_perp: V2) -> [Border; 2] {
+        self.strip.clear();
+        self.strip.push(t_comp);
+        let tri = sp.triangles[t_comp as usize];
+        let centroid = (sp.pattern[tri[0] as usize]
+            + sp.pattern[tri[1] as usize]
+            + sp.pattern[tri[2] as usize])
+            / 3.0
+            + off_line(v_perp, self.tri_h[t_comp as usize]);
+        let cos_conflict = CONFLICT_RAD.cos();
+        let theta_sing = self.theta_sing;
+        let mut borders = [Border::None; 2];
+        for (side, dir) in [v_perp, -v_perp].into_iter().enumerate() {
+            let mut border = Border::None;
+            let mut in_curved: Option<(u32, u32)> = None; // (last edge crossed, steps inside)
+            let th = &self.out.edge_dihedral_rad;
+            let curved = &self.curved;
+            let ruling = &self.tri_ruling;
+            let aniso = &self.tri_aniso;
+            let bend = &self.tri_bend;
+            let strip = &mut self.strip;
+            walk::walk(sp, t_comp, centroid, dir, MAX_WALK, |c| {
+                if let Some((_, steps)) = in_curved {
+                    if c.to == NONE || steps >= 4 {
+                        // No strongly bent ruling right behind the border: the curved region
+                        // absorbs the new rulings (no singular point).
+                        border = Border::Compatible;
+                        return false;
+                    }
+                    if th[c.edge as usize].abs() > theta_sing {
+                        border = Border::InCurved(c.edge);
+                        return false;
+                    }
+                    in_curved = Some((c.edge, steps + 1));
+                    return true;
+                }
+                if c.to == NONE {
+                    border = Border::Free;
+                    return false;
+                }
+                let to = c.to as usize;
+                if !curved[to] {
+                    if th[c.edge as usize].abs() < THETA0_RAD {
+                        if strip.len() < strip.capacity() {
+                            strip.push(c.to);
+                        }
+                        true
+                    } else {
+                        border = Border::Crease(c.edge);
+                        false
+                    }
+                } else if ruling[to].dot(&dir).abs() >= cos_conflict
+                    || aniso[to] > ANISO_MAX
+                    || bend[to] <= theta_sing
+                {
+                    // Compatible, or not a clear, strongly bent ruling family: it grows.
+                    border = Border::Compatible;
+                    false
+                } else {
+                    in_curved = Some((c.edge, 0));
+                    true
+                }
+            });
+            borders[side] = border;
+        }
+        borders
+    }
+
+    /// Step 5–6: a singular vertex about `edge`, with fibre damage. Returns false when no
+    /// S_P vertex is eligible.
+    #[allow(clippy::too_many_arguments)] // the frame loop's state, passed explicitly
+    fn create_singular(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        fixed: &[bool],
+        edge: u32,
+        case: SingularCase,
+        compression: f64,
+        frame: u64,
+    ) -> bool {
+        if self.out.singular.len() >= self.out.singular.capacity() {
+            return false;
+        }
+        let topo = &sp.topo;
+        let e = topo.edges[edge as usize];
+        let (a, b) = (sp.pattern[e.v[0] as usize], sp.pattern[e.v[1] as usize]);
+        let pl = placement::sample_near_segment(a, b, self.sigma_m, &mut self.rng);
+        // Candidates: the edge's endpoints and wing vertices.
+        let mut cand = [NONE; 4];
+        cand[0] = e.v[0];
+        cand[1] = e.v[1];
+        for (k, &h) in e.he.iter().enumerate() {
+            if h != NONE {
+                cand[2 + k] = topo.opposite(h);
+            }
+        }
+        let mut best: Option<(f64, u32)> = None;
+        for &v in &cand {
+            if v == NONE {
+                continue;
+            }
+            let vi = v as usize;
+            // Interior, not yet singular, and outside a hand's pinch (held or next to held).
+            if topo.vertex_on_boundary[vi]
+                || self.is_singular[vi]
+                || fixed[vi]
+                || topo.neighbours(v).iter().any(|&j| fixed[j as usize])
+            {
+                continue;
+            }
+            let d = (sp.pattern[vi] - pl.pos).norm_squared();
+            if best.is_none_or(|b| d < b.0 || (d == b.0 && v < b.1)) {
+                best = Some((d, v));
+            }
+        }
+        let Some((_, v)) = best else {
+            return false;
+        };
+        let dihedral_rad = self.out.edge_dihedral_rad[edge as usize].abs();
+        // Fibre damage (P eq. 1, T eq. 2.1–2.2) on the edges around v.
+        let nbrs = topo.neighbours(v);
+        let n = nbrs.len().max(1) as f64;
+        let (dtheta, dd) = (THETA_REST_RAD / n, DAMAGE_D / n);
+        for &j in nbrs {
+            if let Some(ei) = topo.find_edge(v, j) {
+                let ei = ei as usize;
+                let sign = if self.out.edge_dihedral_rad[ei] < 0.0 {
+                    -1.0
+                } else {
+                    1.0
+                };
+                sp.edge_rest_angle[ei] += sign * dtheta;
+                sp.edge_damage[ei] += dd;
+            }
+        }
+        sp.singular.push(v);
+        self.push_singular(sp, v, pl.pos, frame, case);
+        sg.vertices.push(GVertex {
+            p2: sp.pattern[v as usize],
+            p3: sp.pos[v as usize],
+            kind: VKind::InteriorSingular,
+            bound_s_m: None,
+            sp_index: v,
+        });
+        let idx = self.out.singular.len() as u32 - 1;
+        self.out.push_event(ShapeEvent::SingularCreated {
+            singular: idx,
+            sp_vertex: v,
+            case,
+            compression,
+            dihedral_rad,
+        });
+        true
+    }
+
+    /// Step 7a: regions, creases, kinds, free borders, junctions.
+    fn partition(&mut self, sp: &PhysMesh) {
+        let topo = &sp.topo;
+        let nt = sp.num_triangles();
+        for (i, p) in self.uf.iter_mut().enumerate() {
+            *p = i as u32;
+        }
+        let cos45 = std::f64::consts::FRAC_1_SQRT_2;
+        for (ei, e) in topo.edges.iter().enumerate() {
+            if e.is_boundary() {
+                continue;
+            }
+            let fa = topo.half_edges[e.he[0] as usize].face;
+            let fb = topo.half_edges[e.he[1] as usize].face;
+            let (ca, cb) = (self.curved[fa as usize], self.curved[fb as usize]);
+            let th = self.out.edge_dihedral_rad[ei].abs();
+            let join = if !ca && !cb {
+                th < THETA0_RAD
+            } else if ca && cb {
+                th < std::f64::consts::FRAC_PI_2
+                    && self.tri_ruling[fa as usize]
+                        .dot(&self.tri_ruling[fb as usize])
+                        .abs()
+                        > cos45
+            } else {
+                false
+            };
+            if join {
+                union(&mut self.uf, fa, fb);
+            }
+        }
+        let out = &mut self.out;
+        out.regions.clear();
+        out.rulings.clear();
+        out.free_borders.clear();
+        out.cones.clear();
+        out.junctions.clear();
+        out.num_flat_regions = 0;
+        out.num_curved_regions = 0;
+        out.num_creases = 0;
+        for r in &mut self.root_region {
+            *r = NONE;
+        }
+        for t in 0..nt {
+            let root = find(&mut self.uf, t as u32) as usize;
+            if self.root_region[root] == NONE {
+                self.root_region[root] = out.regions.len() as u32;
+                let kind = if self.curved[t] {
+                    out.num_curved_regions += 1;
+                    RegionKind::Curved
+                } else {
+                    out.num_flat_regions += 1;
+                    RegionKind::Flat
+                };
+                out.regions.push(Region {
+                    kind,
+                    singular_apex: NONE,
+                    ..Region::default()
+                });
+            }
+            let id = self.root_region[root];
+            out.tri_region[t] = id;
+            let reg = &mut out.regions[id as usize];
+            reg.num_triangles += 1;
+            reg.area_m2 += sp.tri_rest[t].area_m2;
+            let tri = sp.triangles[t];
+            let sing = tri.iter().position(|&v| self.is_singular[v as usize]);
+            out.tri_kind[t] = match sing {
+                Some(_) => TriKind::SingularFan,
+                None if self.curved[t] => TriKind::Curved,
+                None => TriKind::Flat,
+            };
+            if let Some(k) = sing
+                && reg.kind == RegionKind::Curved
+                && reg.singular_apex == NONE
+            {
+                let v = tri[k];
+                reg.singular_apex = out
+                    .singular
+                    .iter()
+                    .position(|s| s.sp_vertex == v)
+                    .map_or(NONE, |i| i as u32);
+            }
+        }
+        // Free curved borders.
+        for (ei, e) in topo.edges.iter().enumerate() {
+            if !e.is_boundary() {
+                continue;
+            }
+            let f = topo.half_edges[e.he[0] as usize].face as usize;
+            if !self.curved[f] {
+                continue;
+            }
+            let region = out.tri_region[f];
+            let len = sp.edge_rest_len_m[ei];
+            out.free_borders.push(FreeBorderEdge {
+                region,
+                edge: ei as u32,
+                length_m: len,
+            });
+            let r = &mut out.regions[region as usize];
+            r.free_border_len_m += len;
+            r.num_free_border_edges += 1;
+        }
+        // Junctions.
+        for v in 0..self.vflat.len() {
+            self.vflat[v] = false;
+            self.vcurved[v] = false;
+        }
+        for t in 0..nt {
+            for &v in &sp.triangles[t] {
+                if self.curved[t] {
+                    self.vcurved[v as usize] = true;
+                } else {
+                    self.vflat[v as usize] = true;
+                }
+            }
+        }
+        let mut moves = 0u32;
+        for v in 0..self.vflat.len() {
+            let j = topo.vertex_on_boundary[v] && self.vflat[v] && self.vcurved[v];
+            if j {
+                out.junctions.push(v as u32);
+            }
+            if j != self.junction_prev[v] {
+                moves += 1;
+            }
+            self.junction_prev[v] = j;
+        }
+        out.junction_moves = moves;
+        if moves > 0 {
+            out.push_event(ShapeEvent::JunctionsMoved { count: moves });
+        }
+        let flattened = self
+            .curved
+            .iter()
+            .zip(&self.prev_curved)
+            .filter(|(c, p)| **p && !**c)
+            .count() as u32;
+        if flattened > 0 {
+            out.push_event(ShapeEvent::Flattened {
+                num_triangles: flattened,
+            });
+        }
+    }
+
+    /// Step 7b: rulings of the curved regions (contiguous per region, ordered across it), then
+    /// one ruling per crease.
+    fn trace_rulings(&mut self, sp: &PhysMesh) {
+        let nt = sp.num_triangles();
+        self.order.clear();
+        for t in 0..nt {
+            self.covered[t] = false;
+            if self.curved[t] {
+                self.order.push(t as u32);
+            }
+        }
+        let bend = &self.tri_bend;
+        self.order.sort_unstable_by(|&a, &b| {
+            bend[b as usize]
+                .total_cmp(&bend[a as usize])
+                .then(a.cmp(&b))
+        });
+        let ruling_w = (1.0 / RHO_BOUND_PER_M).max(self.spacing_m);
+        for region in 0..self.out.regions.len() {
+            if self.out.regions[region].kind != RegionKind::Curved {
+                continue;
+            }
+            let first = self.out.rulings.len();
+            for oi in 0..self.order.len() {
+                let t = self.order[oi] as usize;
+                if self.covered[t] || self.out.tri_region[t] as usize != region {
+                    continue;
+                }
+                if self.out.rulings.len() >= self.out.rulings.capacity() {
+                    break;
+                }
+                let dir = self.tri_ruling[t];
+                let tri = sp.triangles[t];
+                let c0 = (sp.pattern[tri[0] as usize]
+                    + sp.pattern[tri[1] as usize]
+                    + sp.pattern[tri[2] as usize])
+                    / 3.0
+                    + off_line(dir, self.tri_h[t]);
+                let x0 =
+                    (sp.pos[tri[0] as usize] + sp.pos[tri[1] as usize] + sp.pos[tri[2] as usize])
+                        / 3.0;
+                self.ruling_tris.clear();
+                self.ruling_tris.push(t as u32);
+                let mut ends = [(c0, x0); 2];
+                for (side, d) in [-dir, dir].into_iter().enumerate() {
+                    let tri_region = &self.out.tri_region;
+                    let rt = &mut self.ruling_tris;
+                    let last = walk::walk(sp, t as u32, c0, d, MAX_WALK, |c| {
+                        c.to != NONE && tri_region[c.to as usize] as usize == region && {
+                            if rt.len() < rt.capacity() {
+                                rt.push(c.to);
+                            }
+                            true
+                        }
+                    });
+                    if let Some(c) = last {
+                        let h = c.half_edge;
+                        let o = sp.topo.half_edges[h as usize].origin as usize;
+                        let de = sp.topo.dest(h) as usize;
+                        ends[side] = (c.point, sp.pos[o] + (sp.pos[de] - sp.pos[o]) * c.u);
+                    }
+                }
+                let (mut ksum, mut nsum) = (0.0, V3::zeros());
+                for &rt in &self.ruling_tris {
+                    let r = rt as usize;
+                    self.covered[r] = true;
+                    ksum += self.tri_kappa[r];
+                    let n = self.tri_normal[r];
+                    nsum += if nsum.dot(&n) < 0.0 { -n } else { n };
+                }
+                let kmean = ksum / self.ruling_tris.len() as f64;
+                let (a2, a3) = ends[0];
+                let (b2, b3) = ends[1];
+                self.out.rulings.push(RulingInfo {
+                    region: region as u32,
+                    a2,
+                    b2,
+                    a3,
+                    b3,
+                    length_m: (b2 - a2).norm(),
+                    dihedral_rad: kmean * ruling_w,
+                    normal: nsum.try_normalize(0.0).unwrap_or_else(V3::z),
+                    sp_edge: NONE,
+                });
+            }
+            let n = self.out.rulings.len() - first;
+            // Order across the region: by the midpoint's coordinate along the mean bending
+            // direction (perpendicular to the doubled-angle mean ruling direction).
+            let rs = &mut self.out.rulings[first..];
+            let (mut c2, mut s2) = (0.0, 0.0);
+            for r in rs.iter() {
+                let d = (r.b2 - r.a2).try_normalize(0.0).unwrap_or_else(V2::x);
+                c2 += d.x * d.x - d.y * d.y;
+                s2 += 2.0 * d.x * d.y;
+            }
+            let ang = 0.5 * s2.atan2(c2);
+            let across = V2::new(-ang.sin(), ang.cos());
+            rs.sort_unstable_by(|p, q| {
+                let kp = ((p.a2 + p.b2) * 0.5).dot(&across);
+                let kq = ((q.a2 + q.b2) * 0.5).dot(&across);
+                kp.total_cmp(&kq)
+                    .then(p.a2.x.total_cmp(&q.a2.x))
+                    .then(p.a2.y.total_cmp(&q.a2.y))
+            });
+            let reg = &mut self.out.regions[region];
+            reg.first_ruling = first as u32;
+            reg.num_rulings = n as u32;
+            if n > 0 {
+                let rs = &self.out.rulings[first..];
+                reg.mean_ruling_len_m = rs.iter().map(|r| r.length_m).sum::<f64>() / n as f64;
+                reg.max_abs_dihedral_rad =
+                    rs.iter().map(|r| r.dihedral_rad.abs()).fold(0.0, f64::max);
+            }
+        }
+        // Creases: an edge with |θ| ≥ θ0 between two different flat regions.
+        let topo = &sp.topo;
+        for (ei, e) in topo.edges.iter().enumerate() {
+            if e.is_boundary() {
+                continue;
+            }
+            let fa = topo.half_edges[e.he[0] as usize].face as usize;
+            let fb = topo.half_edges[e.he[1] as usize].face as usize;
+            let th = self.out.edge_dihedral_rad[ei];
+            if self.curved[fa]
+                || self.curved[fb]
+                || th.abs() < THETA0_RAD
+                || self.out.tri_region[fa] == self.out.tri_region[fb]
+                || self.out.regions.len() >= self.out.regions.capacity()
+                || self.out.rulings.len() >= self.out.rulings.capacity()
+            {
+                continue;
+            }
+            let region = self.out.regions.len() as u32;
+            let (v0, v1) = (e.v[0] as usize, e.v[1] as usize);
+            let len = sp.edge_rest_len_m[ei];
+            let n = self.tri_normal[fa] + self.tri_normal[fb];
+            self.out.rulings.push(RulingInfo {
+                region,
+                a2: sp.pattern[v0],
+                b2: sp.pattern[v1],
+                a3: sp.pos[v0],
+                b3: sp.pos[v1],
+                length_m: len,
+                dihedral_rad: th,
+                normal: n.try_normalize(0.0).unwrap_or_else(V3::z),
+                sp_edge: ei as u32,
+            });
+            self.out.regions.push(Region {
+                kind: RegionKind::Crease,
+                first_ruling: self.out.rulings.len() as u32 - 1,
+                num_rulings: 1,
+                mean_ruling_len_m: len,
+                max_abs_dihedral_rad: th.abs(),
+                singular_apex: NONE,
+                ..Region::default()
+            });
+            self.out.num_creases += 1;
+        }
+    }
+
+    /// Step 8: cone fitting and segmentation of every curved region.
+    fn fit_cones(&mut self) {
+        let eps = EPS_BLASCHKE_FRAC * self.l_paper_m;
+        let far = 100.0 * self.l_paper_m;
+        for region in 0..self.out.regions.len() {
+            let reg = self.out.regions[region];
+            if reg.kind != RegionKind::Curved || reg.num_rulings == 0 {
+                continue;
+            }
+            let first = reg.first_ruling as usize;
+            let last = first + reg.num_rulings as usize - 1;
+            if reg.singular_apex != NONE {
+                let s = self.out.singular[reg.singular_apex as usize];
+                self.push_cone(ConeInfo {
+                    region: region as u32,
+                    apex2: Some(s.pos2),
+                    apex3: Some(s.pos3),
+                    first_ruling: first as u32,
+                    last_ruling: last as u32,
+                    is_gap: false,
+                    rms_m: 0.0,
+                });
+                continue;
+            }
+            self.planes.clear();
+            let mut prev: Option<V3> = None;
+            for r in &self.out.rulings[first..=last] {
+                let mut n = r.normal;
+                if let Some(p) = prev
+                    && p.dot(&n) < 0.0
+                {
+                    n = -n;
+                }
+                prev = Some(n);
+                let m = (r.a3 + r.b3) * 0.5;
+                self.planes.push(RulingPlane {
+                    n,
+                    w: -n.dot(&m),
+                    a2: r.a2,
+                    b2: r.b2,
+                    a3: r.a3,
+                    b3: r.b3,
+                });
+            }
+            let planes = &self.planes;
+            let cones = &mut self.out.cones;
+            let mut last_seg: Option<usize> = None;
+            segment(planes, 0, planes.len() - 1, eps, far, &mut |sg| {
+                if cones.len() + 2 > cones.capacity() {
+                    return;
+                }
+                if let Some(pl) = last_seg {
+                    let gap = gap_apex(&planes[pl], &planes[sg.first]);
+                    cones.push(ConeInfo {
+                        region: region as u32,
+                        apex2: gap.map(|g| g.0),
+                        apex3: gap.map(|g| g.1),
+                        first_ruling: (first + pl) as u32,
+                        last_ruling: (first + sg.first) as u32,
+                        is_gap: true,
+                        rms_m: 0.0,
+                    });
+                }
+                let seg_planes = &planes[sg.first..=sg.last];
+                cones.push(ConeInfo {
+                    region: region as u32,
+                    apex2: apex_in_pattern(seg_planes, &sg.fit),
+                    apex3: sg.fit.apex3,
+                    first_ruling: (first + sg.first) as u32,
+                    last_ruling: (first + sg.last) as u32,
+                    is_gap: false,
+                    rms_m: sg.fit.rms_m,
+                });
+                last_seg = Some(sg.last);
+            });
+        }
+    }
+
+    fn push_cone(&mut self, c: ConeInfo) {
+        if self.out.cones.len() < self.out.cones.capacity() {
+            self.out.cones.push(c);
+        }
+    }
+
+    /// Step 9: isometry optimization, obstacle guard, vertex jump.
+    fn isometry(&mut self, sp: &mut PhysMesh, fixed: &[bool], obstacles: &Obstacles) {
+        self.out.max_vertex_jump_m = 0.0;
+        let vmax2 = sp.vel.iter().map(|v| v.norm_squared()).fold(0.0, f64::max);
+        let vlim = self.cfg.isometry.max_speed_m_s;
+        self.out.isometry_reverted = false;
+        if !self.cfg.isometry.enabled || vmax2.is_nan() || vmax2 > vlim * vlim {
+            self.out.isometry = IsometryReport::default();
+            return;
+        }
+        self.pos_before.copy_from_slice(&sp.pos);
+        self.out.isometry = self.iso.run(sp, fixed, &self.cfg.isometry);
+        // Large corrections can destabilize the next physics step (P 1170–1171): each vertex
+        // moves at most a tenth of the mean edge per frame.
+        let max_step = 0.1 * self.spacing_m;
+        let (mut max, mut arg) = (0.0, 0u32);
+        for i in 0..sp.pos.len() {
+            let old = self.pos_before[i];
+            let mut x = sp.pos[i];
+            let d = x - old;
+            let dn = d.norm();
+            if dn > max_step {
+                x = old + d * (max_step / dn);
+            }
+            for pl in obstacles.active() {
+                let (d_new, d_old) = (pl.distance(&x), pl.distance(&old));
+                if d_new < d_old && d_new < CONTACT_SKIN_M {
+                    x += pl.normal * (d_old.min(CONTACT_SKIN_M) - d_new);
+                }
+            }
+            sp.pos[i] = x;
+            let j = (x - old).norm();
+            if j > max {
+                max = j;
+                arg = i as u32;
+            }
+        }
+        // Never turn a facet far: if any normal turned by more than ISO_MAX_TURN (or
+        // reversed), the frame keeps the physics' positions (a sharp local correction is what
+        // destabilizes the next physics step, P 1170–1171).
+        self.out.isometry_reverted = false;
+        for (t, tri) in sp.triangles.iter().enumerate() {
+            let x = tri.map(|i| sp.pos[i as usize]);
+            let n = (x[1] - x[0]).cross(&(x[2] - x[0]));
+            let c = n.dot(&self.tri_normal[t]);
+            if c.is_nan() || c <= ISO_MAX_TURN_COS * n.norm() {
+                self.out.isometry_reverted = true;
+                break;
+            }
+        }
+        if self.out.isometry_reverted {
+            sp.pos.copy_from_slice(&self.pos_before);
+            max = 0.0;
+        }
+        self.out.max_vertex_jump_m = max;
+        if max > JUMP_EVENT_M {
+            self.out.push_event(ShapeEvent::VertexJump {
+                vertex: arg,
+                jump_m: max,
+            });
+        }
+    }
+}
+
+/// A tiny sideways offset of a walk's start so that a line from a lattice triangle's
+/// centroid does not run exactly through a vertex (an equilateral lattice has vertices right
+/// above its centroids).
+fn off_line(d: V2, h: f64) -> V2 {
+    V2::new(-d.y, d.x) * (1e-3 * h)
+}
+
+/// Makes S_G's interior singular vertices match `sp.singular` (in order).
+pub fn sync_sg_singular(sg: &mut GeomStructure, sp: &PhysMesh) {
+    sg.vertices.retain(|v| v.kind != VKind::InteriorSingular);
+    for &v in &sp.singular {
+        sg.vertices.push(GVertex {
+            p2: sp.pattern[v as usize],
+            p3: sp.pos[v as usize],
+            kind: VKind::InteriorSingular,
+            bound_s_m: None,
+            sp_index: v,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collision::Obstacles;
+    use crate::room::RoomConfig;
+    use crate::sheet::pattern::lattice;
+
+    fn sheet() -> (PhysMesh, GeomStructure) {
+        let sp = PhysMesh::from_pattern(&lattice(0.1, 0.1, 0.011), 0.0, 0.1).unwrap();
+        let sg = GeomStructure::initial(&sp);
+        (sp, sg)
+    }
+
+    fn layer(sp: &PhysMesh) -> GeometryLayer {
+        let cfg = GeometryConfig {
+            isometry: IsometryConfig {
+                enabled: false,
+                ..IsometryConfig::default()
+            },
+            ..GeometryConfig::default()
+        };
+        GeometryLayer::new(
+            sp,
+            cfg,
+            &PaperMaterial::of(crate::control::Material::Printer),
+            1,
+        )
+    }
+
+    fn centre_triangle(sp: &PhysMesh, p: V2) -> usize {
+        use crate::sheet::pattern::signed_area as sa;
+        (0..sp.num_triangles())
+            .find(|&t| {
+                let [a, b, c] = sp.triangles[t].map(|i| sp.pattern[i as usize]);
+                sa(a, b, p) >= 0.0 && sa(b, c, p) >= 0.0 && sa(c, a, p) >= 0.0
+            })
+            .unwrap()
+    }
+
+    /// Digest §8 test 3, case {∂S, ∂S} (Fig. 7): a flat sheet compressed along x gives
+    /// rulings parallel to v⊥ = ±y, both borders free, and no singular vertex.
+    #[test]
+    fn compressed_flat_sheet_propagates_to_two_free_borders() {
+        let (mut sp, mut sg) = sheet();
+        for i in 0..sp.num_vertices() {
+            sp.pos[i].x *= 0.99;
+        }
+        let mut g = layer(&sp);
+        let t = centre_triangle(&sp, V2::new(1.3e-3, 0.7e-3));
+        let x = sp.triangles[t].map(|i| sp.pos[i as usize]);
+        let s = stretch::stretch_tensor(&x, &sp.tri_rest[t].dm_inv);
+        assert!((s.compression() - 0.01).abs() < 1e-9);
+        assert!(s.v_perp.x.abs() < 1e-9, "rulings ∥ v⊥ = y: {:?}", s.v_perp);
+        g.analyse_shape(&sp);
+        g.classify();
+        let b = g.propagate(&sp, t as u32, s.v_perp);
+        assert_eq!(b, [Border::Free, Border::Free]);
+        assert!(
+            g.strip.len() >= 8,
+            "the strip crosses the sheet: {}",
+            g.strip.len()
+        );
+        let fixed = vec![false; sp.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        assert!(g.frame().singular.is_empty());
+        assert!(
+            g.frame()
+                .events
+                .iter()
+                .any(|e| matches!(e, ShapeEvent::StripCurved { cylinder: true, .. }))
+        );
+    }
+
+    /// Digest §8 test 3, case {∂S, singular on a crease} (Fig. 6c): a sheet folded along a
+    /// lattice row into two flat regions, compressed across the fold, gets a singular vertex
+    /// next to the crease, with fibre damage around it; the crease is published as a ruling.
+    #[test]
+    fn propagation_into_a_crease_creates_a_singular_vertex() {
+        let (mut sp, mut sg) = sheet();
+        // The lattice row nearest y = 0.
+        let y0 = sp
+            .pattern
+            .iter()
+            .map(|q| q.y)
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap();
+        let ang: f64 = 0.3;
+        for i in 0..sp.num_vertices() {
+            let q = sp.pattern[i];
+            let x = q.x * 0.995;
+            sp.pos[i] = if q.y > y0 + 1e-9 {
+                let d = q.y - y0;
+                V3::new(x, y0 + d * ang.cos(), d * ang.sin())
+            } else {
+                V3::new(x, q.y, 0.0)
+            };
+        }
+        let mut g = layer(&sp);
+        let fixed = vec![false; sp.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        let f = g.frame();
+        assert!(
+            f.num_flat_regions >= 2,
+            "{} flat regions",
+            f.num_flat_regions
+        );
+        assert!(f.num_creases >= 1);
+        assert!(
+            f.rulings
+                .iter()
+                .any(|r| r.sp_edge != NONE && (r.dihedral_rad.abs() - ang).abs() < 1e-6)
+        );
+        assert_eq!(f.singular.len(), 1);
+        let s = f.singular[0];
+        assert_eq!(s.case, SingularCase::Crease);
+        // Next to the crease (within one edge of the fold row), 2D position fixed.
+        assert!((s.pos2.y - y0).abs() < 0.012, "{:?}", s.pos2);
+        assert!((s.sampled2.y - y0).abs() < 0.01);
+        let n = sp.topo.valence(s.sp_vertex) as f64;
+        for &j in sp.topo.neighbours(s.sp_vertex) {
+            let e = sp.topo.find_edge(s.sp_vertex, j).unwrap() as usize;
+            assert!((sp.edge_rest_angle[e].abs() - THETA_REST_RAD / n).abs() < 1e-12);
+            assert!((sp.edge_damage[e] - DAMAGE_D / n).abs() < 1e-12);
+        }
+        assert_eq!(sg.num_singular(), 1);
+    }
+
+    /// A region containing a singular vertex is one cone with that apex; curved regions of a
+    /// bent sheet have rulings along the bend's generators and free borders.
+    #[test]
+    fn bent_sheet_has_a_curved_region_with_generator_rulings() {
+        let (mut sp, mut sg) = sheet();
+        let r = 0.05;
+        for i in 0..sp.num_vertices() {
+            let q = sp.pattern[i];
+            let a = q.x / r;
+            sp.pos[i] = V3::new(r * a.sin(), q.y, r * (1.0 - a.cos()));
+        }
+        let mut g = layer(&sp);
+        let fixed = vec![false; sp.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        let f = g.frame();
+        assert!(f.num_curved_regions >= 1);
+        let big = f
+            .regions
+            .iter()
+            .enumerate()
+            .max_by_key(|(_, r)| r.num_triangles)
+            .unwrap();
+        assert_eq!(big.1.kind, RegionKind::Curved);
+        let rs = f.region_rulings(big.0 as u32);
+        assert!(rs.len() >= 3);
+        for q in rs {
+            let d = (q.b2 - q.a2).normalize();
+            assert!(d.y.abs() > 0.95, "generator ∥ y: {d:?}");
+        }
+        assert!(big.1.free_border_len_m > 0.05);
+        assert!(big.1.mean_ruling_len_m > 0.05);
+        assert!(
+            f.cones
+                .iter()
+                .any(|c| c.region == big.0 as u32 && !c.is_gap)
+        );
+        assert!(f.singular.is_empty());
+    }
+}
