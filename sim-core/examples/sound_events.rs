@@ -28,7 +28,12 @@ fn main() {
         "constr%"
     );
     for name in names {
-        let script = match (if name.ends_with(".toml") { sim_core::script::Script::parse(&std::fs::read_to_string(name).unwrap()).map_err(|e| e.to_string()) } else { scenario::get(name).map_err(|e| e.to_string()) }) {
+        let script = match (if name.ends_with(".toml") {
+            sim_core::script::Script::parse(&std::fs::read_to_string(name).unwrap())
+                .map_err(|e| e.to_string())
+        } else {
+            scenario::get(name).map_err(|e| e.to_string())
+        }) {
             Ok(s) => s,
             Err(e) => {
                 eprintln!("{name}: {e}");
