@@ -1,7 +1,7 @@
 //! Prints what the sound analysis hears in every seed scenario: crumple events per second
 //! (curvature flips and clacs), sliding-contact frames, and the mean resonator (l_r, l_c).
 //!
-//! `cargo run --release -p sim-core --example sound_events [SCENARIO...]`
+//! `cargo run --release -p sim-core --example sound_events [SCENARIO | FILE.toml ...]`
 
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
@@ -28,12 +28,14 @@ fn main() {
         "constr%"
     );
     for name in names {
-        let script = match (if name.ends_with(".toml") {
-            sim_core::script::Script::parse(&std::fs::read_to_string(name).unwrap())
+        let loaded = if name.ends_with(".toml") {
+            std::fs::read_to_string(name)
                 .map_err(|e| e.to_string())
+                .and_then(|t| sim_core::script::Script::parse(&t).map_err(|e| e.to_string()))
         } else {
             scenario::get(name).map_err(|e| e.to_string())
-        }) {
+        };
+        let script = match loaded {
             Ok(s) => s,
             Err(e) => {
                 eprintln!("{name}: {e}");

@@ -567,6 +567,29 @@ fn importing_recordings_builds_a_loadable_database() {
     r.set_frame(&frame(0, &[friction(0.1, resonator(20.0, 30.0))], 0.0));
     let (l, _) = render(&mut r, 48_000, 512);
     assert!(rms(&l) > 1e-3);
+    // And in papier-render (`--db`): a seed scene plays the imported database.
+    let wav = out.join("render.wav");
+    let report = papier::offline::render(&papier::offline::cli::RenderOptions {
+        inputs: vec![papier::offline::cli::InputSpec::Scene(
+            "s1_slide_release_pinch".into(),
+        )],
+        out: wav.clone(),
+        sample_rate_hz: 48_000,
+        block: 512,
+        seed: None,
+        sets: Vec::new(),
+        obj_dir: None,
+        obj_fps: 25.0,
+        db: Some(out.clone()),
+        quiet: true,
+    })
+    .expect("papier-render --db with the imported database");
+    eprintln!("{report}");
+    assert!(
+        report.rms > 1e-4,
+        "the imported database is heard: {report}"
+    );
+    assert!(report.peak.is_finite());
     // Nothing usable → an error naming the folder.
     let empty = temp_dir("no-recordings");
     std::fs::write(empty.join("readme.txt"), "x").unwrap();
