@@ -29,16 +29,8 @@ fn render_rtf(inputs: Vec<InputSpec>, out: &Path, reps: usize) -> (f64, f64, u64
     let mut events = 0;
     for _ in 0..reps {
         let opts = RenderOptions {
-            inputs: inputs.clone(),
-            out: out.to_path_buf(),
-            sample_rate_hz: 48_000,
-            block: 512,
-            seed: None,
-            sets: Vec::new(),
-            obj_dir: None,
-            obj_fps: 25.0,
-            db: None,
             quiet: true,
+            ..RenderOptions::new(inputs.clone(), out.to_path_buf())
         };
         let r = papier::offline::render(&opts).expect("render");
         best = best.min(r.wall_s);

@@ -9,16 +9,11 @@ fn the_demo_is_audible_finite_and_unclipped() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let out = std::env::temp_dir().join(format!("papier_demo_{}.wav", std::process::id()));
     let opts = RenderOptions {
-        inputs: vec![InputSpec::Script(root.join("plugin/scenes/demo.toml"))],
-        out: out.clone(),
-        sample_rate_hz: 48_000,
-        block: 512,
-        seed: None,
-        sets: Vec::new(),
-        obj_dir: None,
-        obj_fps: 25.0,
-        db: None,
         quiet: true,
+        ..RenderOptions::new(
+            vec![InputSpec::Script(root.join("plugin/scenes/demo.toml"))],
+            out.clone(),
+        )
     };
     let report = papier::offline::render(&opts).expect("demo renders");
     let mut reader = hound::WavReader::open(&out).unwrap();

@@ -570,18 +570,14 @@ fn importing_recordings_builds_a_loadable_database() {
     // And in papier-render (`--db`): a seed scene plays the imported database.
     let wav = out.join("render.wav");
     let report = papier::offline::render(&papier::offline::cli::RenderOptions {
-        inputs: vec![papier::offline::cli::InputSpec::Scene(
-            "s1_slide_release_pinch".into(),
-        )],
-        out: wav.clone(),
-        sample_rate_hz: 48_000,
-        block: 512,
-        seed: None,
-        sets: Vec::new(),
-        obj_dir: None,
-        obj_fps: 25.0,
         db: Some(out.clone()),
         quiet: true,
+        ..papier::offline::cli::RenderOptions::new(
+            vec![papier::offline::cli::InputSpec::Scene(
+                "s1_slide_release_pinch".into(),
+            )],
+            wav.clone(),
+        )
     })
     .expect("papier-render --db with the imported database");
     eprintln!("{report}");

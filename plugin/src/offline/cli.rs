@@ -54,6 +54,25 @@ pub struct RenderOptions {
     pub quiet: bool,
 }
 
+impl RenderOptions {
+    /// Options with `papier-render`'s defaults (48 kHz, blocks of 512, no seed or settings, no
+    /// OBJ, the embedded database, progress shown) for these inputs and output.
+    pub fn new(inputs: Vec<InputSpec>, out: PathBuf) -> Self {
+        Self {
+            inputs,
+            out,
+            sample_rate_hz: 48_000,
+            block: 512,
+            seed: None,
+            sets: Vec::new(),
+            obj_dir: None,
+            obj_fps: 30.0,
+            db: None,
+            quiet: false,
+        }
+    }
+}
+
 /// What the command line asks for.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Cli {
@@ -87,16 +106,17 @@ Renders Papier offline (the plugin's engine, stepped in lockstep with the audio)
 
 /// Parses the arguments (without the program name). The error is one line.
 pub fn parse(args: &[String]) -> Result<Cli, String> {
+    let defaults = RenderOptions::new(Vec::new(), PathBuf::new());
     let mut inputs = Vec::new();
     let mut out = None;
-    let mut sample_rate_hz = 48_000u32;
-    let mut block = 512usize;
-    let mut seed = None;
-    let mut sets = Vec::new();
-    let mut obj_dir = None;
-    let mut obj_fps = 30.0;
-    let mut db = None;
-    let mut quiet = false;
+    let mut sample_rate_hz = defaults.sample_rate_hz;
+    let mut block = defaults.block;
+    let mut seed = defaults.seed;
+    let mut sets = defaults.sets;
+    let mut obj_dir = defaults.obj_dir;
+    let mut obj_fps = defaults.obj_fps;
+    let mut db = defaults.db;
+    let mut quiet = defaults.quiet;
 
     let mut i = 0;
     while i < args.len() {
