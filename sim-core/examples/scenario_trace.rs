@@ -1,6 +1,7 @@
 //! Prints the per-frame statistics of one scenario (debugging aid).
 //!
-//! `cargo run --release -p sim-core --example scenario_trace -- NAME [newton|xpbd] SUBSTEPS ITERS`
+//! `cargo run --release -p sim-core --example scenario_trace -- NAME|FILE.toml [newton|xpbd] SUBSTEPS ITERS`
+//! (`PAPIER_NO_GEOMETRY=1` turns the geometry layer off).
 
 use sim_core::physics::SolverKind;
 use sim_core::room::RoomConfig;
@@ -25,7 +26,15 @@ fn main() {
     if let Some(s) = args.get(3) {
         cfg.solver.iterations = s.parse().expect("iterations");
     }
-    let script = scenario::get(name).expect("scenario");
+    if std::env::var_os("PAPIER_NO_GEOMETRY").is_some() {
+        cfg.geometry.enabled = false;
+    }
+    let script = if name.ends_with(".toml") {
+        let text = std::fs::read_to_string(name).expect("script file");
+        sim_core::script::Script::parse(&text).expect("script")
+    } else {
+        scenario::get(name).expect("scenario")
+    };
     let mut runner =
         ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default()).expect("runner");
     let mut sim = runner.start(cfg);
@@ -42,7 +51,7 @@ fn main() {
         sim.step(&mut out);
         let s = out.stats;
         println!(
-            "f {:4} t {:5.3} sleep {} it {:2} c {:6.3} nc {:5.1} strain {:6.3} vmax {:6.3} ke {:.2e} held {:2} cont {:3} flip {} rec {}",
+            "f {:4} t {:5.3} sleep {} it {:2} c {:6.3} nc {:5.1} strain {:6.3} vmax {:6.3} ke {:.2e} held {:2} cont {:3} flip {} rec {} sing {} ev {}",
             sim.frame(),
             sim.time_s(),
             s.asleep as u8,
@@ -55,7 +64,9 @@ fn main() {
             s.num_held,
             s.num_contacts,
             s.num_flipped,
-            s.recoveries
+            s.recoveries,
+            s.num_singular,
+            out.sound.crumple().len()
         );
     }
 }

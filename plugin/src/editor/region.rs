@@ -5,9 +5,12 @@
 //! regions and small regions around singular vertices (d-cone apexes); the colours make that
 //! structure visible while the sheet is played.
 //!
-//! **Where the kinds come from.** Today the simulation tags vertices only
-//! ([`sim_core::mesh_snapshot::VertexTag`]: plain, handle, singular), so the view derives the
-//! kinds itself ([`RegionClassifier`]):
+//! **Where the kinds come from.** The geometry layer of the simulation partitions the sheet
+//! every frame (`sim_core::geometry::GeometryFrame::tri_kind`: flat facets, curved regions
+//! fitted by generalized cones, fans around singular vertices; thesis §2.4, TOG 2015 §4–5), and
+//! the view shows exactly that partition ([`kinds_from_partition`]). When the layer is off (or
+//! a frame carries no partition) the view derives the kinds from the mesh alone
+//! ([`RegionClassifier`]), an approximation:
 //! - *around a singular vertex*: a triangle touching a vertex tagged `Singular`;
 //! - *curved*: a triangle whose normal deviates from the area-weighted normals of its own
 //!   vertices by more than a sheet bent to a radius of [`CURVED_MAX_RADIUS_M`] would make it
@@ -15,11 +18,10 @@
 //!   bend radius ≈ h / 2α, independent of the mesh resolution);
 //! - *flat*: everything else.
 //!
-//! When sim-core provides region kinds per vertex or triangle, `classify` reads them instead and
-//! the rest of the view (colours, legend) stays as it is. A new kind is one more [`RegionKind`]
-//! variant with its colour and label.
+//! A new kind is one more [`RegionKind`] variant with its colour and label.
 
 use sim_core::MeshSnapshot;
+use sim_core::geometry::TriKind;
 use sim_core::mesh_snapshot::VertexTag;
 
 use super::vec3::{V3, add, cross, dot, length, normalized, sub};
@@ -65,6 +67,23 @@ impl RegionKind {
 pub const HANDLE_DOT_COLOUR: [u8; 3] = [70, 205, 120];
 /// Colour of the dots drawn on singular vertices.
 pub const SINGULAR_DOT_COLOUR: [u8; 3] = [215, 45, 40];
+
+impl From<TriKind> for RegionKind {
+    fn from(k: TriKind) -> Self {
+        match k {
+            TriKind::Flat => RegionKind::Flat,
+            TriKind::Curved => RegionKind::Curved,
+            TriKind::SingularFan => RegionKind::Singular,
+        }
+    }
+}
+
+/// The simulation's partition as view kinds, into `out` (cleared first; no allocation once
+/// `out` has the capacity).
+pub fn kinds_from_partition(partition: &[TriKind], out: &mut Vec<RegionKind>) {
+    out.clear();
+    out.extend(partition.iter().map(|&k| RegionKind::from(k)));
+}
 
 /// Derives per-triangle region kinds from a mesh snapshot (keeps its scratch storage).
 #[derive(Debug, Default)]
@@ -155,6 +174,27 @@ mod tests {
 
     fn count(kinds: &[RegionKind], k: RegionKind) -> usize {
         kinds.iter().filter(|&&x| x == k).count()
+    }
+
+    #[test]
+    fn partition_kinds_map_one_to_one() {
+        let partition = [
+            TriKind::Flat,
+            TriKind::SingularFan,
+            TriKind::Curved,
+            TriKind::Flat,
+        ];
+        let mut out = vec![RegionKind::Curved; 9];
+        kinds_from_partition(&partition, &mut out);
+        assert_eq!(
+            out,
+            [
+                RegionKind::Flat,
+                RegionKind::Singular,
+                RegionKind::Curved,
+                RegionKind::Flat
+            ]
+        );
     }
 
     #[test]

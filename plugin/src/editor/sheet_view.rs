@@ -20,7 +20,9 @@ use sim_core::mesh_snapshot::VertexTag;
 use sim_core::room::RoomConfig;
 
 use super::projection::{OrbitCamera, Projector};
-use super::region::{HANDLE_DOT_COLOUR, RegionClassifier, RegionKind, SINGULAR_DOT_COLOUR};
+use super::region::{
+    HANDLE_DOT_COLOUR, RegionClassifier, RegionKind, SINGULAR_DOT_COLOUR, kinds_from_partition,
+};
 use super::room_map::{self, MAP_SIZE_PX};
 use super::room_scene::{HEAD_RADIUS_M, RoomScene};
 use super::shading::{face_normal, facing, shade};
@@ -129,9 +131,14 @@ impl SheetView {
         copy_into(&mut dst.mesh.pattern_m, &src.mesh.pattern_m);
         copy_into(&mut dst.mesh.tags, &src.mesh.tags);
         copy_into(&mut dst.mesh.triangles, &src.mesh.triangles);
+        copy_into(&mut dst.tri_kind, &src.tri_kind);
         drop(slot);
-        self.classifier
-            .classify(&self.frame.mesh, &mut self.regions);
+        if self.frame.tri_kind.len() == self.frame.mesh.triangles.len() {
+            kinds_from_partition(&self.frame.tri_kind, &mut self.regions);
+        } else {
+            self.classifier
+                .classify(&self.frame.mesh, &mut self.regions);
+        }
         if self.boundary_of != self.frame.mesh.triangles {
             copy_into(&mut self.boundary_of, &self.frame.mesh.triangles);
             boundary_edges(&self.frame.mesh.triangles, &mut self.boundary);
@@ -526,5 +533,44 @@ mod tests {
         assert_eq!(verts.len(), view.boundary.len());
         // No new frame: nothing to do.
         assert!(!view.refresh(&shared));
+    }
+
+    #[test]
+    fn a_crumpled_sheet_shows_the_simulations_partition() {
+        use sim_core::geometry::TriKind;
+        use sim_core::{Command, GestureParam, GrabSlot, Sim, SimConfig};
+        let shared = ViewShared::default();
+        let mut view = SheetView::default();
+        let mut publisher = crate::engine::view::ViewPublisher::install(&shared);
+        shared
+            .open
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+        let mut sim = Sim::new(SimConfig::default());
+        let mut out = sim_core::FrameOutput::default();
+        sim.apply(Command::Grab {
+            slot: GrabSlot::Corners,
+            grip: 1.0,
+        });
+        sim.apply(Command::Gesture {
+            param: GestureParam::Crumple,
+            value: 0.6,
+        });
+        for _ in 0..200 {
+            sim.step(&mut out);
+        }
+        let partition = sim.geometry().tri_kind.clone();
+        let curved = partition.iter().filter(|&&k| k != TriKind::Flat).count();
+        assert!(curved > 0, "the crumple should bend part of the sheet");
+        publisher.after_frame(&shared, &sim, &out.stats);
+        assert!(view.refresh(&shared));
+        let count = |k| partition.iter().filter(|&&x| x == k).count();
+        assert_eq!(
+            view.region_counts(),
+            [
+                count(TriKind::Flat),
+                count(TriKind::Curved),
+                count(TriKind::SingularFan)
+            ]
+        );
     }
 }

@@ -1,7 +1,8 @@
 //! # The editor's view of the sheet
 //!
 //! While the editor window is open, whoever steps the sheet (the worker thread, or the engine in
-//! offline lockstep) copies the mesh and the frame statistics into a triple buffer at display
+//! offline lockstep) copies the mesh, the geometry layer's partition (region kind per triangle)
+//! and the frame statistics into a triple buffer at display
 //! rate ([`VIEW_EVERY_FRAMES`]); the editor reads the latest copy when it repaints. The copy is
 //! skipped entirely while the window is closed. Nothing here touches the audio thread's data:
 //! the editor has its own triple buffer, and its consumer end is only ever locked by the GUI
@@ -15,6 +16,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 use crossbeam_queue::ArrayQueue;
 
+use sim_core::geometry::TriKind;
 use sim_core::room::RoomConfig;
 use sim_core::sim::FrameStats;
 use sim_core::{MeshSnapshot, Sim};
@@ -44,6 +46,9 @@ pub struct ViewFrame {
     pub room: RoomConfig,
     /// Simulated time, seconds.
     pub time_s: f64,
+    /// The geometry layer's partition, one kind per triangle of `mesh` (flat, curved, around a
+    /// singular vertex); empty when the layer is off or its frame does not match the mesh.
+    pub tri_kind: Vec<TriKind>,
 }
 
 impl ViewFrame {
@@ -57,6 +62,7 @@ impl ViewFrame {
         Self {
             valid: false,
             mesh,
+            tri_kind: vec![TriKind::Flat; triangles],
             ..Self::default()
         }
     }
@@ -125,6 +131,14 @@ impl ViewPublisher {
         frame.stats = *stats;
         frame.room = sim.config().room;
         frame.time_s = sim.time_s();
+        // The partition, only when it describes this very mesh (a sleeping or disabled layer
+        // leaves the view to derive the kinds itself). Within the prefilled capacity: no
+        // allocation.
+        frame.tri_kind.clear();
+        let kinds = &sim.geometry().tri_kind;
+        if sim.config().geometry.enabled && kinds.len() == frame.mesh.triangles.len() {
+            frame.tri_kind.extend_from_slice(kinds);
+        }
         frame.valid = true;
         self.input.publish();
         shared.frames_written.fetch_add(1, Ordering::Relaxed);
