@@ -330,9 +330,6 @@ fn the_comb_notch_follows_the_height_above_the_table() {
 }
 
 #[test]
-#[ignore = "known failure, issue 6: a sheet squeezed and held by the crumple hands does not \
-            settle (vertex speeds of 3–5 m/s at a held crumple of 0.3), so it crackles \
-            continuously and the event rate falls as the squeeze tightens"]
 fn more_crumple_means_more_crumple_events() {
     // The same two-hand crumple gesture driven to 0.3, 0.6 and 0.9 (the crumple parameter).
     let rate_for = |amount: f64| {

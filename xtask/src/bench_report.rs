@@ -224,7 +224,11 @@ fn variants(quick: bool) -> Vec<Variant> {
     // Row 0: the whole frame (the default configuration); row 1: the same physics alone.
     let mut v = vec![with_geometry(physics.clone(), "default", g, ""), physics];
     // Geometry-layer rows of the frontier.
-    let geo_solvers: &[(u32, u32)] = if quick { &[(1, 2)] } else { &[(1, 2), (1, 5)] };
+    let geo_solvers: &[(u32, u32)] = if quick {
+        &[(1, 3)]
+    } else {
+        &[(1, 2), (1, 3), (1, 5)]
+    };
     for &(s, i) in geo_solvers {
         v.push(with_geometry(
             variant("newton", newton(s, i), d),
