@@ -110,11 +110,12 @@ fn flaps_ring_and_clacs_are_short() {
         flaps.len(),
         clacs.len()
     );
-    // Evenly strided samples of each kind (20 each).
+    // Evenly strided samples of each kind.
+    const SAMPLES: usize = 40;
     let pick = |v: &[&CrumpleEvent]| -> Vec<f64> {
-        (0..20)
+        (0..SAMPLES)
             .map(|k| {
-                let e = v[k * v.len() / 20];
+                let e = v[k * v.len() / SAMPLES];
                 let t = ring_ms(e);
                 eprintln!(
                     "  l_r {:5.1} l_c {:5.1} cm: {t:5.1} ms",
@@ -135,7 +136,7 @@ fn flaps_ring_and_clacs_are_short() {
     assert!(longest_clac < 20.0, "clacs ring {clac_ms:?} ms");
     let mut big = 0;
     for (k, t) in flap_ms.iter().enumerate() {
-        let e = flaps[k * flaps.len() / 20];
+        let e = flaps[k * flaps.len() / SAMPLES];
         assert!(*t > longest_clac, "flap {k} ({t} ms) no longer than a clac");
         if e.resonator.lr_cm >= 10.0 && e.resonator.lc_cm >= 5.0 {
             assert!(*t >= 100.0, "flap {k} {:?} rings only {t} ms", e.resonator);
