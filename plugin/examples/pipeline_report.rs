@@ -77,7 +77,6 @@ fn analysis_us(name: &str) -> (f64, f64, usize) {
                 contacts: sim.contacts(),
                 held: &held,
                 time_s: sim.time_s(),
-                geometry: Some(sim.geometry()),
             },
             &mut sound,
         );

@@ -517,9 +517,6 @@ impl Sim {
                 contacts: &self.contacts,
                 held: &self.fixed,
                 time_s: self.time_s(),
-                geometry: (self.cfg.geometry.enabled
-                    && self.geometry.frame().tri_region.len() == self.sheet.sp.triangles.len())
-                .then(|| self.geometry.frame()),
             },
             &mut out.sound,
         );

@@ -58,14 +58,12 @@
 //!   each counted by its extent across the local ruling (a border running along a ruling is
 //!   straight and does not bend: the digest's "mean dihedral across the adjacent rulings");
 //!   l_c = 0 makes the resonator constrained;
-//! - **l_r**: the mean ruling length (T 1782–1790). With the geometry layer on, the rulings are
-//!   the layer's own (its generalized-cone fit of each curved region): l_r is the area-weighted
-//!   mean ruling length of the curved regions the resonator covers. Without the layer (or in a
-//!   region the layer sees as flat) it is measured on the mesh — the region's dominant ruling
-//!   direction (area- and curvature-weighted mean of the per-triangle least-curved directions)
-//!   and the mean chord of the region along it through up to [`resonators::MAX_CHORDS`] sample
+//! - **l_r**: the mean ruling length — the region's dominant ruling direction (area- and
+//!   curvature-weighted mean of the per-triangle least-curved directions), and the mean chord
+//!   of the region along that direction through up to [`resonators::MAX_CHORDS`] sample
 //!   points, i.e. the distance between a ruling's two border hits (digest-sound §2.1
-//!   fallback); see [`resonators`];
+//!   fallback). When the geometry layer's rulings are available this is the same quantity
+//!   measured on the rulings it has;
 //! - the **disk** of the dipole model (digest-sound §2.4 proposal): area-weighted centroid,
 //!   area-weighted mean normal, radius √(area/π).
 //!
@@ -85,7 +83,6 @@ pub mod friction_events;
 pub mod resonators;
 
 use crate::collision::VertexContact;
-use crate::geometry::GeometryFrame;
 use crate::sheet::physical::PhysMesh;
 use crate::sound_input::{CrumpleEvent, SoundFrame};
 
@@ -147,9 +144,6 @@ pub struct AnalysisInput<'a> {
     pub held: &'a [bool],
     /// Simulated time of the frame, seconds (refractory periods).
     pub time_s: f64,
-    /// The geometry layer's partition of this very frame, when the layer runs: resonators
-    /// take l_r from its rulings (see [`resonators`]).
-    pub geometry: Option<&'a GeometryFrame>,
 }
 
 /// Counts of one frame's analysis (meters, reports, tests).
@@ -403,7 +397,6 @@ mod tests {
                 contacts: &contacts,
                 held: &held,
                 time_s,
-                geometry: None,
             },
             &mut out,
         );
@@ -556,7 +549,6 @@ mod tests {
             contacts: &none_c,
             held: &none_h,
             time_s: 0.0,
-            geometry: None,
         };
         an.analyze(&input, &mut out);
         an.finder.begin();
@@ -594,7 +586,6 @@ mod tests {
             contacts: &c,
             held: &h,
             time_s: 0.0,
-            geometry: None,
         };
         let mut out = SoundFrame::default();
         an.analyze(&input, &mut out);
@@ -610,38 +601,6 @@ mod tests {
         assert!((r.lc_cm - 40.0).abs() < 2.0, "l_c {}", r.lc_cm);
         // The disk: normal along +z (mean of the cylinder's normals), radius √(A/π).
         assert!(r.normal[2] > 0.9, "{:?}", r.normal);
-        // With the geometry layer's partition, l_r is its mean ruling length (cut to the
-        // region's pattern diagonal); l_c and the disk do not change.
-        let nt = sp.num_triangles();
-        let frame = |len_m: f64| crate::geometry::GeometryFrame {
-            tri_region: vec![0; nt],
-            regions: vec![crate::geometry::Region {
-                kind: crate::geometry::RegionKind::Curved,
-                num_triangles: nt as u32,
-                num_rulings: 7,
-                mean_ruling_len_m: len_m,
-                ..Default::default()
-            }],
-            ..Default::default()
-        };
-        for (len_m, want_cm) in [(0.12, 12.0), (1.0, 100.0 * 0.2 * 2f32.sqrt())] {
-            let g = frame(len_m);
-            let input = AnalysisInput {
-                geometry: Some(&g),
-                ..input
-            };
-            an.finder.begin();
-            an.finder.add_region(0);
-            an.finder
-                .select(&sp, &an.curvature, &an.regions, &input, &an.cfg, 1);
-            let rg = an.finder.resonator(0);
-            assert!(
-                (rg.lr_cm - want_cm).abs() < 0.01,
-                "l_r {} vs {want_cm}",
-                rg.lr_cm
-            );
-            assert_eq!((rg.lc_cm, rg.radius_m), (r.lc_cm, r.radius_m));
-        }
         // Holding the whole border makes it constrained.
         let held: Vec<bool> = sp.topo.vertex_on_boundary.clone();
         let input = AnalysisInput {
@@ -649,7 +608,6 @@ mod tests {
             contacts: &c,
             held: &held,
             time_s: 1.0,
-            geometry: None,
         };
         an.analyze(&input, &mut out);
         let t = (0..sp.num_triangles() as u32)
@@ -690,7 +648,6 @@ mod tests {
                 contacts: &contacts,
                 held: &held,
                 time_s: 0.0,
-                geometry: None,
             },
             &mut out,
         );
@@ -716,7 +673,6 @@ mod tests {
                 contacts: &contacts,
                 held: &held,
                 time_s: 0.0,
-                geometry: None,
             },
             &mut out,
         );
@@ -738,7 +694,6 @@ mod tests {
                 contacts: &contacts,
                 held: &held,
                 time_s: 0.0,
-                geometry: None,
             },
             &mut out,
         );

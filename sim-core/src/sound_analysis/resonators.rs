@@ -7,16 +7,7 @@
 //! touches into [`Resonator`]s: it keeps the largest ones by area and measures, for each,
 //! the free curved border length l_c, the mean ruling length l_r and the disk of the dipole.
 //!
-//! **l_r from the geometry layer's rulings.** When the developable-geometry layer runs
-//! ([`crate::geometry`]), every curved region of its partition carries rulings fitted by its
-//! generalized cones, and a resonator's l_r is what the seeds define it to be, the mean ruling
-//! length (T 1782–1790): the area-weighted mean, over the resonator's triangles that lie in a
-//! curved region with rulings, of that region's mean ruling length (a ruling longer than the
-//! resonator's own pattern diagonal is cut to it: a held edge or a contact line can split a
-//! geometric region into two vibration regions).
-//!
-//! **l_r on S_P (fallback, an approximation):** without the layer (or for a resonator that
-//! touches no ruled region) the region's dominant ruling
+//! **l_r on S_P (approximation, said here and in the README):** the region's dominant ruling
 //! direction d is the principal eigenvector of Σ_t w_t r_t r_tᵀ over its curved triangles
 //! (r_t the triangle's least-curved direction, w_t = area × curvature); a ruling is the chord
 //! of the region (in the pattern) along d through a sample point — the union of the region's
@@ -25,7 +16,6 @@
 //! curved triangles, evenly strided). A region with no curved triangle uses the chord through
 //! its centroid along its longer pattern extent; it is constrained anyway (l_c = 0).
 
-use crate::geometry::RegionKind;
 use crate::math::{V2, V3};
 use crate::sheet::physical::PhysMesh;
 use crate::sheet::topology::NONE;
@@ -336,15 +326,6 @@ impl ResonatorFinder {
         } else {
             V3::new(0.0, 0.0, 1.0)
         };
-        if let Some(lr) = ruled_length(input, &curv.tri_area_m2, tris, (maxp - minp).norm()) {
-            return Resonator {
-                lr_cm: (lr * 100.0) as f32,
-                lc_cm: (lc * 100.0) as f32,
-                centre_m: [centre.x as f32, centre.y as f32, centre.z as f32],
-                normal: [normal.x as f32, normal.y as f32, normal.z as f32],
-                radius_m: (area / std::f64::consts::PI).sqrt() as f32,
-            };
-        }
         // Dominant ruling direction.
         let dir = principal(tensor).unwrap_or_else(|| {
             let ext = maxp - minp;
@@ -478,38 +459,6 @@ fn principal(s: [f64; 3]) -> Option<V2> {
     };
     let n = v.norm();
     (n > 1e-300 && n.is_finite()).then(|| v / n)
-}
-
-/// l_r from the geometry layer: the area-weighted mean ruling length of the curved regions the
-/// triangles lie in, each cut to `max_len_m`; `None` without the layer or without a ruled
-/// triangle.
-fn ruled_length(
-    input: &AnalysisInput<'_>,
-    tri_area_m2: &[f64],
-    tris: &[u32],
-    max_len_m: f64,
-) -> Option<f64> {
-    let g = input.geometry?;
-    let (mut sum, mut weight) = (0.0, 0.0);
-    for &t in tris {
-        let Some(region) = g
-            .tri_region
-            .get(t as usize)
-            .and_then(|&r| g.regions.get(r as usize))
-        else {
-            continue;
-        };
-        if region.kind != RegionKind::Curved
-            || region.num_rulings == 0
-            || !(region.mean_ruling_len_m > 0.0)
-        {
-            continue;
-        }
-        let a = tri_area_m2.get(t as usize).copied().unwrap_or(0.0);
-        sum += a * region.mean_ruling_len_m.min(max_len_m);
-        weight += a;
-    }
-    (weight > 0.0).then(|| sum / weight)
 }
 
 #[cfg(test)]
