@@ -36,7 +36,12 @@ fn main() {
     for (i, r) in g.regions.iter().enumerate() {
         println!(
             "  region {i}: {:?} tris {} area {:.4} m² rulings {} mean len {:.3} m free border {:.3} m",
-            r.kind, r.num_triangles, r.area_m2, r.num_rulings, r.mean_ruling_len_m, r.free_border_len_m
+            r.kind,
+            r.num_triangles,
+            r.area_m2,
+            r.num_rulings,
+            r.mean_ruling_len_m,
+            r.free_border_len_m
         );
     }
     for (k, f) in out.sound.friction().iter().enumerate() {
