@@ -13,6 +13,7 @@
 //! float) via `hound`, and optionally the sheet as a sequence of Wavefront OBJ files.
 
 pub mod cli;
+pub mod midi_export;
 pub mod midi_file;
 pub mod timeline;
 
@@ -28,6 +29,7 @@ use sounddb::SoundDb;
 use thiserror::Error;
 
 use self::cli::{InputSpec, RenderOptions};
+use self::midi_export::MidiExport;
 use self::midi_file::MidiFile;
 use self::timeline::{HostEvent, Timeline};
 use crate::engine::{Engine, FrameClock, Meters, ParamValues, SimMode};
@@ -149,16 +151,15 @@ fn write_obj(
         .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", path.display())))
 }
 
-/// Renders according to the options.
-pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
-    let started = Instant::now();
-    let sr = f64::from(opts.sample_rate_hz);
-
-    // Parameters: defaults, then the scripts' [set] tables, then --seed and --set.
-    let mut params = ParamValues::default();
-    let frames = FrameClock::new(sr, sim_core::sim::DEFAULT_FRAME_RATE_HZ);
+/// Reads every input onto one sorted timeline (scripts validated against the parameters).
+fn read_inputs(
+    inputs: &[InputSpec],
+    sr: f64,
+    frames: FrameClock,
+) -> Result<Timeline, OfflineError> {
+    let params = ParamValues::default();
     let mut tl = Timeline::default();
-    for input in &opts.inputs {
+    for input in inputs {
         match input {
             InputSpec::Midi(p) => {
                 let f = MidiFile::from_file(p)
@@ -181,6 +182,36 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         }
     }
     tl.finish();
+    Ok(tl)
+}
+
+/// Writes the inputs as a MIDI performance (README map) to `out` ([`midi_export`]).
+pub fn write_midi(inputs: &[InputSpec], out: &Path) -> Result<MidiExport, OfflineError> {
+    let sr = 48_000.0;
+    let frames = FrameClock::new(sr, sim_core::sim::DEFAULT_FRAME_RATE_HZ);
+    let tl = read_inputs(inputs, sr, frames)?;
+    let x = midi_export::export(&tl, sr);
+    if let Some(parent) = out.parent()
+        && !parent.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(parent).map_err(|e| {
+            OfflineError::Output(format!("cannot create {}: {e}", parent.display()))
+        })?;
+    }
+    std::fs::write(out, x.to_smf())
+        .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", out.display())))?;
+    Ok(x)
+}
+
+/// Renders according to the options.
+pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
+    let started = Instant::now();
+    let sr = f64::from(opts.sample_rate_hz);
+
+    // Parameters: defaults, then the scripts' [set] tables, then --seed and --set.
+    let mut params = ParamValues::default();
+    let frames = FrameClock::new(sr, sim_core::sim::DEFAULT_FRAME_RATE_HZ);
+    let tl = read_inputs(&opts.inputs, sr, frames)?;
     for (id, v) in &tl.initial {
         params
             .set(id, v)
@@ -454,6 +485,31 @@ pub fn main_with_args(args: &[String]) -> i32 {
             }
             0
         }
+        cli::Cli::WriteMidi { inputs, out, quiet } => match write_midi(&inputs, &out) {
+            Ok(x) => {
+                if !quiet {
+                    let sets: String = x.sets.iter().map(|s| format!(" --set {s}")).collect();
+                    println!(
+                        "papier-render: wrote {} ({} messages, {:.2} s)\n  render it: papier-render --midi {}{sets} --out OUT.wav",
+                        out.display(),
+                        x.events.len(),
+                        x.length_s,
+                        out.display()
+                    );
+                    if !x.dropped.is_empty() {
+                        println!(
+                            "  not in the file (no MIDI control for them): {}",
+                            x.dropped.join(", ")
+                        );
+                    }
+                }
+                0
+            }
+            Err(e) => {
+                eprintln!("papier-render: error: {e}");
+                e.exit_code()
+            }
+        },
         cli::Cli::Render(opts) => match render(&opts) {
             Ok(report) => {
                 if !opts.quiet {

@@ -47,7 +47,7 @@ fn main() {
                 println!("f {:4} {e:?}", sim.frame());
             }
         }
-        if sim.frame() % 50 == 0 {
+        if sim.frame().is_multiple_of(50) {
             println!(
                 "f {:4} flat c {:.4} curved c {:.4} curved regions {} singular {}",
                 sim.frame(),

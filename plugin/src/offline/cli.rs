@@ -82,6 +82,15 @@ pub enum Cli {
     Help,
     /// List the built-in scenes.
     ListScenes,
+    /// Write the inputs as a MIDI performance (README map) instead of rendering.
+    WriteMidi {
+        /// The inputs.
+        inputs: Vec<InputSpec>,
+        /// The MIDI file to write.
+        out: PathBuf,
+        /// Print only errors.
+        quiet: bool,
+    },
 }
 
 /// The usage text.
@@ -102,6 +111,8 @@ Renders Papier offline (the plugin's engine, stepped in lockstep with the audio)
   --obj-dir DIR      write the sheet as frame_00000.obj, ... (v: metres, vt: pattern metres)
   --obj-fps N        OBJ frames per second (default 30)
   --db DIR           use a user sound database instead of the embedded one
+  --write-midi FILE  write the inputs as a MIDI performance (README map: grabs as notes,
+                     gestures as CCs) instead of rendering; prints the --set options it needs
   --quiet            print only errors";
 
 /// Parses the arguments (without the program name). The error is one line.
@@ -117,6 +128,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
     let mut obj_fps = defaults.obj_fps;
     let mut db = defaults.db;
     let mut quiet = defaults.quiet;
+    let mut write_midi = None;
 
     let mut i = 0;
     while i < args.len() {
@@ -183,6 +195,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
                     .ok_or_else(|| format!("--obj-fps {v}: expected 1 to 1000"))?;
             }
             "--db" => db = Some(PathBuf::from(value("--db")?)),
+            "--write-midi" => write_midi = Some(PathBuf::from(value("--write-midi")?)),
             "--quiet" | "-q" => quiet = true,
             other => return Err(format!("unknown option {other:?} (see --help)")),
         }
@@ -190,6 +203,16 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
     }
     if inputs.is_empty() {
         return Err("no input: give at least one --midi, --script or --scene".into());
+    }
+    if let Some(path) = write_midi {
+        if out.is_some() {
+            return Err("--write-midi writes a MIDI file and renders nothing: drop --out".into());
+        }
+        return Ok(Cli::WriteMidi {
+            inputs,
+            out: path,
+            quiet,
+        });
     }
     let out = out.ok_or("no output: give --out FILE.wav")?;
     Ok(Cli::Render(RenderOptions {
@@ -230,6 +253,15 @@ mod tests {
         assert_eq!(o.sets, vec!["size=a6", "table=off"]);
         assert_eq!(o.obj_fps, 24.0);
         assert!(o.quiet);
+        let Cli::WriteMidi { inputs, out, quiet } =
+            parse(&args("--scene s1 --write-midi s1.mid")).unwrap()
+        else {
+            panic!()
+        };
+        assert_eq!(
+            (inputs.len(), out, quiet),
+            (1, PathBuf::from("s1.mid"), false)
+        );
     }
 
     #[test]
@@ -246,6 +278,7 @@ mod tests {
             "--midi a.mid --out x.wav --seed -3",
             "--midi a.mid --out x.wav --frobnicate",
             "--midi",
+            "--scene s1 --write-midi a.mid --out x.wav",
         ] {
             let e = parse(&args(a)).unwrap_err();
             assert!(!e.contains('\n'), "{a}: {e}");
