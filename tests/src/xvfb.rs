@@ -3,7 +3,8 @@
 //! `xdotool`, `imagemagick`, installed by `cargo xtask test` and `.ci/run`).
 //!
 //! [`Xvfb::start`] picks a free display number, starts the server and waits until it accepts
-//! connections; dropping the [`Xvfb`] stops it. Tools run with `DISPLAY` set to it.
+//! connections; dropping the [`Xvfb`] stops it when the test process has exited. Tools run with
+//! `DISPLAY` set to it.
 
 use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
@@ -98,9 +99,27 @@ impl Xvfb {
 }
 
 impl Drop for Xvfb {
+    /// Stops the server once this test process has exited, not before: a library may keep an
+    /// X connection open until the process ends (and Xlib ends a process whose server went
+    /// away with exit status 1, turning a passed test into a failed binary). A small watcher
+    /// waits for the process to go and then stops the server; if the watcher cannot be
+    /// started, the server is stopped now.
     fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        let script = format!(
+            "while kill -0 {} 2>/dev/null; do sleep 0.1; done; kill {} 2>/dev/null",
+            std::process::id(),
+            self.child.id()
+        );
+        let watcher = Command::new("sh")
+            .args(["-c", &script])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn();
+        if watcher.is_err() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
     }
 }
 
