@@ -214,17 +214,14 @@ fn every_scene_renders_with_finite_meshes_inside_the_room() {
         let (_, l, r) = read_stereo(&out);
         assert!(all_finite_normal(&l) && all_finite_normal(&r), "{name}");
         for f in obj_files(&objs) {
-            for line in std::fs::read_to_string(&f).unwrap().lines() {
-                if let Some(rest) = line.strip_prefix("v ") {
-                    let c: Vec<f64> = rest.split(' ').map(|x| x.parse().unwrap()).collect();
-                    assert!(c.iter().all(|x| x.is_finite()), "{}: {line}", f.display());
-                    // The room: floor at z = 0, nothing beyond 3 m.
-                    assert!(
-                        c[2] >= -1e-3 && c.iter().all(|x| x.abs() < 3.0),
-                        "{}: {line}",
-                        f.display()
-                    );
-                }
+            for c in obj_vertices(&f) {
+                assert!(c.iter().all(|x| x.is_finite()), "{}: {c:?}", f.display());
+                // The room: floor at z = 0, nothing beyond 3 m.
+                assert!(
+                    c[2] >= -1e-3 && c.iter().all(|x| x.abs() < 3.0),
+                    "{}: {c:?}",
+                    f.display()
+                );
             }
         }
     }
@@ -243,28 +240,22 @@ fn obj_vertices(path: &Path) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// Distances between corresponding vertices of two meshes, centimetres.
+fn distances_cm<'a>(a: &'a [[f64; 3]], b: &'a [[f64; 3]]) -> impl Iterator<Item = f64> + 'a {
+    assert_eq!(a.len(), b.len(), "different meshes");
+    a.iter().zip(b).map(|(p, q)| {
+        100.0 * ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+    })
+}
+
 /// Mean distance between corresponding vertices, centimetres.
 fn mean_distance_cm(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    assert_eq!(a.len(), b.len(), "different meshes");
-    let sum: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(p, q)| {
-            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-        })
-        .sum();
-    100.0 * sum / a.len() as f64
+    distances_cm(a, b).sum::<f64>() / a.len() as f64
 }
 
 /// Largest distance between corresponding vertices, centimetres.
 fn max_distance_cm(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    assert_eq!(a.len(), b.len(), "different meshes");
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| {
-            100.0 * ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-        })
-        .fold(0.0, f64::max)
+    distances_cm(a, b).fold(0.0, f64::max)
 }
 
 /// Every scene exported as a MIDI performance (`--write-midi`, the README's map) and rendered
