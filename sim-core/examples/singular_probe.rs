@@ -1,7 +1,8 @@
 //! Development probe: when, where and why a scenario creates singular points.
 //!
 //! `cargo run --release -p sim-core --example singular_probe -- NAME|FILE.toml`
-//! (`PAPIER_CURVED_FACTOR=F` overrides `GeometryConfig::curved_eps_factor`).
+//! (`PAPIER_CURVED_FACTOR=F` and `PAPIER_GAUSS_FACTOR=F` override `GeometryConfig::curved_eps_factor`
+//! and `gauss_eps_factor`).
 use sim_core::geometry::ShapeEvent;
 use sim_core::room::RoomConfig;
 use sim_core::scenario;
@@ -24,6 +25,12 @@ fn main() {
         .and_then(|v| v.parse().ok())
     {
         cfg.geometry.curved_eps_factor = f;
+    }
+    if let Some(f) = std::env::var("PAPIER_GAUSS_FACTOR")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        cfg.geometry.gauss_eps_factor = f;
     }
     let mut runner =
         ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default()).expect("runner");

@@ -29,7 +29,7 @@
 //!    ([`stretch`]); the most compressed one T_comp with c_t = 1 − λ_min > ε_c starts a pass.
 //!    **Addition (impl. choice):** a *curved* triangle compressed along its own, well-defined
 //!    ruling direction (|κ_small/κ_big| < [`ANISO_MAX`], compression direction within
-//!    [`CONFLICT_RAD`] of the ruling) by more than `curved_eps_factor`·ε_c also starts a
+//!    [`CONFLICT_RAD`] of the ruling) by more than `curved_eps_factor`·ε_c (40) also starts a
 //!    pass, as a case A conflict in place (singular point about its most bent edge). The
 //!    seeds never need this because their curved regions are developable by construction;
 //!    on our fixed S_P a curved region compressed along its generators is exactly the
@@ -53,6 +53,21 @@
 //! 5. **Singular-vertex generation** (§3.5) at crease and conflicting-ruling borders: s̄ is
 //!    drawn with the seeds' law about ē_sing ([`placement`], seeded RNG, σ from the material).
 //!    Persistent: never removed, never moved in 2D.
+//!    **Addition (impl. choice): non-developable vertices.** The seeds' physics leaves flat
+//!    triangles compressed by ≈ 1 % (their physics-only c_mean 0.9–1.5 %), so compression
+//!    analysis alone finds their d-cones. Our Newton step runs to convergence on a fine,
+//!    fully bendable S_P (c_mean ≈ 0.01 %): squeezed, the lattice folds at its own edges
+//!    instead of compressing, and the full crumple found no compressed flat triangle at all.
+//!    What it does show is where ruling families meet: the Gauss image of a vertex's 1-ring
+//!    (its triangles' unit normals) lies along one arc at a developable point (cylinder,
+//!    cone, twist) and spreads in two directions where two bends cross. With φ the minor
+//!    spread (√ of the small eigenvalue of the normals' covariance in their mean tangent
+//!    plane), a smooth doubly curved cap of that extent would need a compression of about
+//!    φ²/6 (chord ratio sin φ/φ); a vertex with φ²/6 > `gauss_eps_factor`·ε_c (15, calibrated
+//!    on the seed scenarios: twist 0, double bend 1–4, full crumple ≥ 15) becomes singular
+//!    (case [`SingularCase::NonDevelopable`]), most spread first, ≥ `gauss_min_spacing_m`
+//!    (2 cm) from existing singular vertices. Being tied to ε_c, a thicker paper gets fewer
+//!    points and the ε_c sweep of Fig. 21 stays monotone.
 //! 6. **Fibre damage** (§2.3, P eq. 1, T eq. 2.1–2.2): around a new singular vertex i with
 //!    N_i incident S_P edges, every incident edge gets rest angle += ±Θ_rest/N_i (Θ_rest = π/8)
 //!    with the sign of its current fold (digest §9 item 8: interior vertices only, sign at
@@ -203,6 +218,12 @@ pub struct GeometryConfig {
     /// A curved triangle compressed along its own rulings starts a pass only when its
     /// compression exceeds this × ε_c (impl. choice, see the module doc).
     pub curved_eps_factor: f64,
+    /// A vertex whose ring normals spread by φ in two directions becomes singular when
+    /// φ²/6 exceeds this × ε_c (impl. choice, see the module doc); infinite = off.
+    pub gauss_eps_factor: f64,
+    /// A non-developable vertex closer than this (pattern distance, metres) to an existing
+    /// singular vertex is explained by that vertex's d-cone and not made singular.
+    pub gauss_min_spacing_m: f64,
     /// The isometry optimizer.
     pub isometry: IsometryConfig,
 }
@@ -215,7 +236,9 @@ impl Default for GeometryConfig {
             sigma_m: None,
             max_passes: 4,
             max_new_singular_per_frame: 1,
-            curved_eps_factor: 10.0,
+            curved_eps_factor: 40.0,
+            gauss_eps_factor: 15.0,
+            gauss_min_spacing_m: 0.02,
             isometry: IsometryConfig::default(),
         }
     }
@@ -231,6 +254,12 @@ impl GeometryConfig {
         c.max_new_singular_per_frame = c.max_new_singular_per_frame.min(16);
         if !(c.curved_eps_factor.is_finite() && c.curved_eps_factor >= 1.0) {
             c.curved_eps_factor = Self::default().curved_eps_factor;
+        }
+        if c.gauss_eps_factor.is_nan() || c.gauss_eps_factor < 1.0 {
+            c.gauss_eps_factor = Self::default().gauss_eps_factor;
+        }
+        if !(c.gauss_min_spacing_m.is_finite() && (0.0..1.0).contains(&c.gauss_min_spacing_m)) {
+            c.gauss_min_spacing_m = Self::default().gauss_min_spacing_m;
         }
         let i = &mut c.isometry;
         i.phase1_max_iters = i.phase1_max_iters.min(200);
@@ -348,6 +377,9 @@ pub enum SingularCase {
     CurvedRegion,
     /// Restored from a saved sheet of version 2, which did not record the case.
     Restored,
+    /// A vertex whose 1-ring is bent in two directions (ruling families meeting at an
+    /// angle, P 685–704); impl. choice, see the module doc.
+    NonDevelopable,
 }
 
 /// A persistent interior singular vertex (d-cone apex).
@@ -575,6 +607,9 @@ pub struct GeometryLayer {
     tri_bend: Vec<f64>,
     tri_normal: Vec<V3>,
     tri_h: Vec<f64>,
+    vert_tris_start: Vec<u32>,
+    vert_tris: Vec<u32>,
+    vert_spread2: Vec<f64>,
     uf: Vec<u32>,
     root_region: Vec<u32>,
     order: Vec<u32>,
@@ -664,6 +699,9 @@ impl GeometryLayer {
                 .iter()
                 .map(|r| (4.0 * r.area_m2 / 3f64.sqrt()).sqrt())
                 .collect(),
+            vert_tris_start: Vec::new(),
+            vert_tris: Vec::new(),
+            vert_spread2: vec![0.0; nv],
             uf: (0..nt as u32).collect(),
             root_region: vec![NONE; nt],
             order: Vec::with_capacity(nt),
@@ -679,6 +717,24 @@ impl GeometryLayer {
             rng: rand_pcg::Pcg32::seed_from_u64(layer_seed(seed)),
             frames_processed: 0,
         };
+        let mut count = vec![0u32; nv + 1];
+        for tri in &sp.triangles {
+            for &v in tri {
+                count[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..nv {
+            count[v + 1] += count[v];
+        }
+        let mut fill = count.clone();
+        s.vert_tris = vec![0; 3 * nt];
+        for (t, tri) in sp.triangles.iter().enumerate() {
+            for &v in tri {
+                s.vert_tris[fill[v as usize] as usize] = t as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        s.vert_tris_start = count;
         s.set_material(mat);
         for &v in &sp.singular {
             s.is_singular[v as usize] = true;
@@ -752,6 +808,7 @@ impl GeometryLayer {
                         SingularCase::Crease => 0,
                         SingularCase::CurvedRegion => 1,
                         SingularCase::Restored => 2,
+                        SingularCase::NonDevelopable => 3,
                     };
                     (
                         s.sp_vertex,
@@ -793,12 +850,13 @@ impl GeometryLayer {
                 self.refractory_until.copy_from_slice(&g.refractory_until);
                 self.rng = g.rng.clone();
                 for &(v, s2, f, c) in &g.singular {
-                    if v as usize >= nv || !(s2[0].is_finite() && s2[1].is_finite()) || c > 2 {
+                    if v as usize >= nv || !(s2[0].is_finite() && s2[1].is_finite()) || c > 3 {
                         return Err("bad geometry singular entry".into());
                     }
                     let case = match c {
                         0 => SingularCase::Crease,
                         1 => SingularCase::CurvedRegion,
+                        3 => SingularCase::NonDevelopable,
                         _ => SingularCase::Restored,
                     };
                     self.push_singular(sp, v, V2::new(s2[0], s2[1]), f, case);
@@ -852,7 +910,10 @@ impl GeometryLayer {
         self.analyse_shape(sp);
         self.classify();
         let flats_before = self.out.num_flat_regions;
-        self.treat_compression(sp, sg, fixed, frame);
+        let made = self.treat_compression(sp, sg, fixed, frame);
+        if self.cfg.gauss_eps_factor.is_finite() {
+            self.treat_nondevelopable(sp, sg, fixed, frame, made);
+        }
         self.partition(sp);
         if flats_before > 0 && self.out.num_flat_regions > flats_before {
             let after = self.out.num_flat_regions;
@@ -961,7 +1022,7 @@ impl GeometryLayer {
         sg: &mut GeomStructure,
         fixed: &[bool],
         frame: u64,
-    ) {
+    ) -> u32 {
         let mut new_singular = 0u32;
         self.out.max_flat_compression = 0.0;
         for (v, n) in self.near_held.iter_mut().enumerate() {
@@ -1068,6 +1129,143 @@ impl GeometryLayer {
                 });
             }
         }
+        new_singular
+    }
+
+    /// Step 5 for non-developable vertices (impl. choice, see the module doc): the Gauss
+    /// image of a vertex's 1-ring — its triangles' unit normals — lies along one arc where
+    /// the sheet is developable (cylinder, cone, twist: one ruling family through the
+    /// vertex) and spreads in two directions where ruling families meet at an angle, the
+    /// situation the seeds resolve with a singular vertex (P 685–704). The spread is the
+    /// square root of the small eigenvalue of the normals' covariance in the tangent plane of
+    /// their mean; a smooth doubly curved cap with that angular extent φ would need a
+    /// compression of about φ²/6 (the chord ratio sin φ/φ), so a vertex is singular when
+    /// φ²/6 > `gauss_eps_factor`·ε_c (a thicker paper, larger ε_c, gets fewer points, as in
+    /// the seeds). The most spread vertex first, one per pass; never in a hand's pinch, on a
+    /// vertex next to an existing singular vertex (its d-cone explains the spread), or on a
+    /// refractory triangle's vertex.
+    fn treat_nondevelopable(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        fixed: &[bool],
+        frame: u64,
+        mut made: u32,
+    ) {
+        let phi_c2 = 6.0 * self.cfg.gauss_eps_factor * self.eps_c;
+        let spacing_m = self.cfg.gauss_min_spacing_m;
+        let mut checked = false;
+        for _ in 0..self.cfg.max_passes {
+            if made >= self.cfg.max_new_singular_per_frame {
+                return;
+            }
+            if !checked {
+                for v in 0..sp.num_vertices() {
+                    self.vert_spread2[v] = if sp.topo.vertex_on_boundary[v] {
+                        0.0
+                    } else {
+                        self.gauss_spread2(v)
+                    };
+                }
+                checked = true;
+            }
+            let mut best: Option<(f64, u32)> = None;
+            for v in 0..sp.num_vertices() {
+                let s2 = self.vert_spread2[v];
+                if s2 <= phi_c2 || best.is_some_and(|b| b.0 >= s2) {
+                    continue;
+                }
+                let p = sp.pattern[v];
+                let blocked = self.near_held[v]
+                    || self.is_singular[v]
+                    || self
+                        .vertex_tris(v)
+                        .iter()
+                        .any(|&t| self.refractory_until[t as usize] > frame)
+                    || self
+                        .out
+                        .singular
+                        .iter()
+                        .any(|s| (s.pos2 - p).norm() < spacing_m);
+                if !blocked {
+                    best = Some((s2, v as u32));
+                }
+            }
+            let Some((s2, v)) = best else {
+                return;
+            };
+            // e_sing: the most bent edge at v (the strongest ruling through it).
+            let mut e_sing: Option<(f64, u32)> = None;
+            for &j in sp.topo.neighbours(v) {
+                if let Some(e) = sp.topo.find_edge(v, j) {
+                    let th = self.out.edge_dihedral_rad[e as usize].abs();
+                    if e_sing.is_none_or(|b| th > b.0) {
+                        e_sing = Some((th, e));
+                    }
+                }
+            }
+            let (start, end) = (
+                self.vert_tris_start[v as usize],
+                self.vert_tris_start[v as usize + 1],
+            );
+            for k in start..end {
+                let t = self.vert_tris[k as usize] as usize;
+                self.refractory_until[t] = frame + REFRACTORY_FRAMES;
+            }
+            self.vert_spread2[v as usize] = 0.0;
+            let Some((_, e)) = e_sing else {
+                continue;
+            };
+            if self.create_singular(
+                sp,
+                sg,
+                fixed,
+                e,
+                SingularCase::NonDevelopable,
+                s2 / 6.0,
+                frame,
+            ) {
+                made += 1;
+            }
+        }
+    }
+
+    /// The triangles around vertex `v`.
+    fn vertex_tris(&self, v: usize) -> &[u32] {
+        let (a, b) = (
+            self.vert_tris_start[v] as usize,
+            self.vert_tris_start[v + 1] as usize,
+        );
+        &self.vert_tris[a..b]
+    }
+
+    /// φ² of vertex `v`: the small eigenvalue of its ring normals' tangent covariance.
+    fn gauss_spread2(&self, v: usize) -> f64 {
+        let tris = self.vertex_tris(v);
+        if tris.len() < 3 {
+            return 0.0;
+        }
+        let mut m = V3::zeros();
+        for &t in tris {
+            m += self.tri_normal[t as usize];
+        }
+        let Some(m) = m.try_normalize(1e-9) else {
+            return 0.0;
+        };
+        let helper = if m.x.abs() < 0.9 { V3::x() } else { V3::y() };
+        let u = m.cross(&helper).normalize();
+        let w = m.cross(&u);
+        let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
+        for &t in tris {
+            let n = self.tri_normal[t as usize];
+            let (x, y) = (n.dot(&u), n.dot(&w));
+            a += x * x;
+            b += x * y;
+            c += y * y;
+        }
+        let k = tris.len() as f64;
+        let (lo, _, _) = sym2_eigen(a / k, b / k, c / k);
+        lo.max(0.0)
     }
 
     /// Step 4: imaginary-ruling propagation from `t_comp` along ±`v_perp`; fills `strip`.
@@ -1869,5 +2067,39 @@ mod tests {
                 .any(|c| c.region == big.0 as u32 && !c.is_gap)
         );
         assert!(f.singular.is_empty());
+    }
+
+    /// The non-developable-vertex detector: a sheet bent along one direction only (a tight
+    /// cylinder) has no singular vertex, one folded along two crossing lines (a pyramid-like
+    /// roof, z = a(|x| + |y|)) gets one at the crossing.
+    #[test]
+    fn crossing_bends_make_a_singular_vertex_and_a_cylinder_does_not() {
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        let run = |shape: &dyn Fn(V2) -> V3| {
+            let (mut sp, mut sg) = sheet();
+            for i in 0..sp.num_vertices() {
+                sp.pos[i] = shape(sp.pattern[i]);
+            }
+            let mut g = layer(&sp);
+            let fixed = vec![false; sp.num_vertices()];
+            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+            g.frame()
+                .singular
+                .iter()
+                .filter(|s| s.case == SingularCase::NonDevelopable)
+                .map(|s| s.pos2)
+                .collect::<Vec<_>>()
+        };
+        let r = 0.02;
+        let cylinder = run(&|q: V2| {
+            let a = q.x / r;
+            V3::new(r * a.sin(), q.y, r * (1.0 - a.cos()))
+        });
+        assert!(cylinder.is_empty(), "{cylinder:?}");
+        let c = 0.0; // the pattern is centred on the origin
+        let roof = run(&|q: V2| V3::new(q.x, q.y, 0.5 * ((q.x - c).abs() + (q.y - c).abs())));
+        assert!(!roof.is_empty(), "no singular vertex where two folds cross");
+        let p = roof[0];
+        assert!((p - V2::new(c, c)).norm() < 0.02, "at {p:?}");
     }
 }
