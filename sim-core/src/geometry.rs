@@ -73,13 +73,20 @@
 //!    with the sign of its current fold (digest §9 item 8: interior vertices only, sign at
 //!    creation) and damage += D/N_i (D = 10, k_b/(1 + d)): the physics then keeps the d-cone,
 //!    so a crumpled sheet does not spring back flat, while a smoothly bent one does (P 489–491).
-//! 7. **Region partition, rulings, free borders** (§5.1): curved regions are connected curved
-//!    triangles with compatible ruling directions; rulings are straight pattern lines traced
-//!    along r̄_t through the region (seeded at the most bent uncovered triangle, one strip of
-//!    triangles per ruling) with 2D/3D endpoints, length, tangent-plane normal and dihedral
-//!    angle (the mean signed κ along the ruling × the ruling spacing, i.e. the angle between
-//!    the tangent planes of neighbouring rulings, as the seeds' quads have); crease edges are
-//!    rulings of their own (dihedral = θ_e).
+//! 7. **Region partition, rulings, free borders** (§5.1): curved regions grow from their most
+//!    bent triangle over curved neighbours (by edge or vertex: a fold across the lattice's
+//!    diagonals touches at vertices) whose region-scale ruling direction — the shape operator
+//!    summed over the triangle and its edge neighbours — is within 45° of the seed's, so a
+//!    region is one family of rulings (pairwise chaining let one region turn across a whole
+//!    crumpled sheet). A flat triangle with no coplanar flat neighbour that touches a curved
+//!    one is a facet of that curved region and turns curved (before: a fold across the
+//!    lattice left a chain of one-triangle flat regions). Crease edges between the same two
+//!    flat regions form one crease region (one ruling per S_P edge, dihedral = θ_e). Rulings
+//!    are straight pattern lines traced along the region-scale r̄_t through the region
+//!    (seeded at the most bent uncovered triangle, one strip of triangles per ruling) with
+//!    2D/3D endpoints, length, tangent-plane normal and dihedral angle (the mean signed κ
+//!    along the ruling × the ruling spacing, i.e. the angle between the tangent planes of
+//!    neighbouring rulings, as the seeds' quads have).
 //! 8. **Generalized-cone fitting** (§3.7, [`cone`]): per curved region, rulings ordered across
 //!    it, least-squares apex on the Blaschke cylinder, segmentation into cones with
 //!    ε_blaschke = 0.5 % L_paper, gap cones between segments; a region containing a singular
@@ -302,7 +309,9 @@ pub enum RegionKind {
     Flat,
     /// A curved region: an *unconstrained* resonator with free curved borders.
     Curved,
-    /// A crease between two flat regions: a degenerate curved region with one ruling (T 740).
+    /// A crease between two flat regions: the seeds' degenerate curved region with one
+    /// ruling (T 740); here the chain of S_P edges between the two regions, one ruling each,
+    /// `mean_ruling_len_m` the crease's whole length.
     Crease,
 }
 
@@ -604,6 +613,12 @@ pub struct GeometryLayer {
     tri_kappa: Vec<f64>,
     tri_aniso: Vec<f64>,
     tri_ruling: Vec<V2>,
+    tri_shape: Vec<[f64; 3]>,
+    grow_order: Vec<u32>,
+    crease_edges: Vec<(u32, u32, u32)>,
+    grow_stack: Vec<u32>,
+    grown: Vec<bool>,
+    tri_ruling_smooth: Vec<V2>,
     tri_bend: Vec<f64>,
     tri_normal: Vec<V3>,
     tri_h: Vec<f64>,
@@ -692,6 +707,12 @@ impl GeometryLayer {
             tri_kappa: vec![0.0; nt],
             tri_aniso: vec![1.0; nt],
             tri_ruling: vec![V2::x(); nt],
+            tri_shape: vec![[0.0; 3]; nt],
+            grow_order: Vec::with_capacity(nt),
+            crease_edges: Vec::with_capacity(ne),
+            grow_stack: Vec::with_capacity(nt),
+            grown: vec![false; nt],
+            tri_ruling_smooth: vec![V2::x(); nt],
             tri_bend: vec![0.0; nt],
             tri_normal: vec![V3::z(); nt],
             tri_h: sp
@@ -991,12 +1012,37 @@ impl GeometryLayer {
                 1.0
             };
             self.tri_ruling[t] = ruling;
+            self.tri_shape[t] = [a, b, c];
             self.tri_bend[t] = kappa.abs() * self.tri_h[t];
             let x = tri.map(|i| sp.pos[i as usize]);
             self.tri_normal[t] = (x[1] - x[0])
                 .cross(&(x[2] - x[0]))
                 .try_normalize(0.0)
                 .unwrap_or_else(V3::z);
+        }
+        // Region-scale ruling directions: the shape operator summed over a triangle and its
+        // edge neighbours (area weights cancel: each S̄_t is already per unit area and the
+        // lattice's triangles are near-equal). A single triangle's three hinges give a noisy
+        // direction where one of them carries most of the bend; the sum over the four
+        // triangles follows the region's generators and keeps one generalized cone in one
+        // region (partition and ruling tracing use it; the conflict tests keep the local one).
+        for t in 0..sp.num_triangles() {
+            let mut acc = self.tri_shape[t];
+            for k in 0..3 {
+                let tw = topo.half_edges[3 * t + k].twin;
+                if tw != NONE {
+                    let n = self.tri_shape[topo.half_edges[tw as usize].face as usize];
+                    for i in 0..3 {
+                        acc[i] += n[i];
+                    }
+                }
+            }
+            let (lo, hi, vlo) = sym2_eigen(acc[0], acc[1], acc[2]);
+            self.tri_ruling_smooth[t] = if lo.abs() >= hi.abs() {
+                V2::new(-vlo.y, vlo.x)
+            } else {
+                vlo
+            };
         }
     }
 
@@ -1433,6 +1479,33 @@ impl GeometryLayer {
             *p = i as u32;
         }
         let cos45 = std::f64::consts::FRAC_1_SQRT_2;
+        // A flat triangle with no coplanar flat neighbour (each of its edges is either bent
+        // by θ0 or more or shared with a curved triangle) is no flat region of the seeds but
+        // a facet of the curved region or fold beside it: when it touches a curved triangle
+        // it turns curved (and keeps the hysteresis), so a fold running across the lattice
+        // is one strip of curved triangles instead of a chain of one-triangle flat regions.
+        for t in 0..nt {
+            if self.curved[t] {
+                continue;
+            }
+            let (mut coplanar_flat, mut by_curved) = (false, false);
+            for k in 0..3 {
+                let tw = topo.half_edges[3 * t + k].twin;
+                if tw == NONE {
+                    continue;
+                }
+                let n = topo.half_edges[tw as usize].face as usize;
+                let e = topo.he_edge[3 * t + k] as usize;
+                if self.curved[n] {
+                    by_curved = true;
+                } else if self.out.edge_dihedral_rad[e].abs() < THETA0_RAD {
+                    coplanar_flat = true;
+                }
+            }
+            if by_curved && !coplanar_flat {
+                self.curved[t] = true;
+            }
+        }
         for (ei, e) in topo.edges.iter().enumerate() {
             if e.is_boundary() {
                 continue;
@@ -1441,19 +1514,61 @@ impl GeometryLayer {
             let fb = topo.half_edges[e.he[1] as usize].face;
             let (ca, cb) = (self.curved[fa as usize], self.curved[fb as usize]);
             let th = self.out.edge_dihedral_rad[ei].abs();
-            let join = if !ca && !cb {
-                th < THETA0_RAD
-            } else if ca && cb {
-                th < std::f64::consts::FRAC_PI_2
-                    && self.tri_ruling[fa as usize]
-                        .dot(&self.tri_ruling[fb as usize])
-                        .abs()
-                        > cos45
-            } else {
-                false
-            };
+            // Flat triangles join across coplanar edges; curved ones grow below.
+            let join = !ca && !cb && th < THETA0_RAD;
             if join {
                 union(&mut self.uf, fa, fb);
+            }
+        }
+        // Curved regions grow from their most bent triangle: a curved neighbour (sharing an
+        // edge or, for a fold across the lattice's diagonals whose curved triangles touch at
+        // vertices only, a vertex) joins when its region-scale ruling is within 45° of the
+        // seed's. Comparing with the seed, not pairwise, keeps a region one family of
+        // rulings that fan by at most 90° (a generalized cone); pairwise chaining would let
+        // the direction turn step by step across a whole crumpled sheet.
+        self.grow_order.clear();
+        self.grow_order
+            .extend((0..nt as u32).filter(|&t| self.curved[t as usize]));
+        let bend = &self.tri_bend;
+        self.grow_order.sort_unstable_by(|&x, &y| {
+            bend[y as usize]
+                .total_cmp(&bend[x as usize])
+                .then(x.cmp(&y))
+        });
+        for f in &mut self.grown {
+            *f = false;
+        }
+        for oi in 0..self.grow_order.len() {
+            let seed = self.grow_order[oi];
+            if self.grown[seed as usize] {
+                continue;
+            }
+            let d = self.tri_ruling_smooth[seed as usize];
+            self.grown[seed as usize] = true;
+            self.grow_stack.clear();
+            self.grow_stack.push(seed);
+            while let Some(t) = self.grow_stack.pop() {
+                for &v in &sp.triangles[t as usize] {
+                    let (a, b) = (
+                        self.vert_tris_start[v as usize] as usize,
+                        self.vert_tris_start[v as usize + 1] as usize,
+                    );
+                    for k in a..b {
+                        let n = self.vert_tris[k];
+                        let ni = n as usize;
+                        if self.grown[ni]
+                            || !self.curved[ni]
+                            || self.tri_ruling_smooth[ni].dot(&d).abs() <= cos45
+                        {
+                            continue;
+                        }
+                        self.grown[ni] = true;
+                        union(&mut self.uf, seed, n);
+                        if self.grow_stack.len() < self.grow_stack.capacity() {
+                            self.grow_stack.push(n);
+                        }
+                    }
+                }
             }
         }
         let out = &mut self.out;
@@ -1602,7 +1717,7 @@ impl GeometryLayer {
                 if self.out.rulings.len() >= self.out.rulings.capacity() {
                     break;
                 }
-                let dir = self.tri_ruling[t];
+                let dir = self.tri_ruling_smooth[t];
                 let tri = sp.triangles[t];
                 let c0 = (sp.pattern[tri[0] as usize]
                     + sp.pattern[tri[1] as usize]
@@ -1685,8 +1800,11 @@ impl GeometryLayer {
                     rs.iter().map(|r| r.dihedral_rad.abs()).fold(0.0, f64::max);
             }
         }
-        // Creases: an edge with |θ| ≥ θ0 between two different flat regions.
+        // Creases: edges with |θ| ≥ θ0 between two different flat regions, one crease
+        // region per pair of flat regions (the seeds' crease is one line between two flat
+        // regions, T 740; on the lattice it is a chain of S_P edges, one ruling each).
         let topo = &sp.topo;
+        self.crease_edges.clear();
         for (ei, e) in topo.edges.iter().enumerate() {
             if e.is_boundary() {
                 continue;
@@ -1694,40 +1812,66 @@ impl GeometryLayer {
             let fa = topo.half_edges[e.he[0] as usize].face as usize;
             let fb = topo.half_edges[e.he[1] as usize].face as usize;
             let th = self.out.edge_dihedral_rad[ei];
-            if self.curved[fa]
-                || self.curved[fb]
-                || th.abs() < THETA0_RAD
-                || self.out.tri_region[fa] == self.out.tri_region[fb]
-                || self.out.regions.len() >= self.out.regions.capacity()
-                || self.out.rulings.len() >= self.out.rulings.capacity()
-            {
+            let (ra, rb) = (self.out.tri_region[fa], self.out.tri_region[fb]);
+            if self.curved[fa] || self.curved[fb] || th.abs() < THETA0_RAD || ra == rb {
                 continue;
             }
+            self.crease_edges.push((ra.min(rb), ra.max(rb), ei as u32));
+        }
+        self.crease_edges.sort_unstable();
+        let mut i = 0;
+        while i < self.crease_edges.len() {
+            let key = (self.crease_edges[i].0, self.crease_edges[i].1);
+            let mut j = i;
+            while j < self.crease_edges.len()
+                && (self.crease_edges[j].0, self.crease_edges[j].1) == key
+            {
+                j += 1;
+            }
+            if self.out.regions.len() >= self.out.regions.capacity()
+                || self.out.rulings.len() + (j - i) > self.out.rulings.capacity()
+            {
+                break;
+            }
             let region = self.out.regions.len() as u32;
-            let (v0, v1) = (e.v[0] as usize, e.v[1] as usize);
-            let len = sp.edge_rest_len_m[ei];
-            let n = self.tri_normal[fa] + self.tri_normal[fb];
-            self.out.rulings.push(RulingInfo {
-                region,
-                a2: sp.pattern[v0],
-                b2: sp.pattern[v1],
-                a3: sp.pos[v0],
-                b3: sp.pos[v1],
-                length_m: len,
-                dihedral_rad: th,
-                normal: n.try_normalize(0.0).unwrap_or_else(V3::z),
-                sp_edge: ei as u32,
-            });
+            let first = self.out.rulings.len() as u32;
+            let (mut len_sum, mut th_max) = (0.0f64, 0.0f64);
+            for &(_, _, ei) in &self.crease_edges[i..j] {
+                let ei = ei as usize;
+                let e = topo.edges[ei];
+                let fa = topo.half_edges[e.he[0] as usize].face as usize;
+                let fb = topo.half_edges[e.he[1] as usize].face as usize;
+                let th = self.out.edge_dihedral_rad[ei];
+                let (v0, v1) = (e.v[0] as usize, e.v[1] as usize);
+                let len = sp.edge_rest_len_m[ei];
+                let n = self.tri_normal[fa] + self.tri_normal[fb];
+                self.out.rulings.push(RulingInfo {
+                    region,
+                    a2: sp.pattern[v0],
+                    b2: sp.pattern[v1],
+                    a3: sp.pos[v0],
+                    b3: sp.pos[v1],
+                    length_m: len,
+                    dihedral_rad: th,
+                    normal: n.try_normalize(0.0).unwrap_or_else(V3::z),
+                    sp_edge: ei as u32,
+                });
+                len_sum += len;
+                th_max = th_max.max(th.abs());
+            }
+            let n = (j - i) as u32;
             self.out.regions.push(Region {
                 kind: RegionKind::Crease,
-                first_ruling: self.out.rulings.len() as u32 - 1,
-                num_rulings: 1,
-                mean_ruling_len_m: len,
-                max_abs_dihedral_rad: th.abs(),
+                first_ruling: first,
+                num_rulings: n,
+                // The crease is one ruling of the seeds' degenerate region: its whole length.
+                mean_ruling_len_m: len_sum,
+                max_abs_dihedral_rad: th_max,
                 singular_apex: NONE,
                 ..Region::default()
             });
             self.out.num_creases += 1;
+            i = j;
         }
     }
 
@@ -2101,5 +2245,52 @@ mod tests {
         assert!(!roof.is_empty(), "no singular vertex where two folds cross");
         let p = roof[0];
         assert!((p - V2::new(c, c)).norm() < 0.02, "at {p:?}");
+    }
+
+    /// A rounded fold running obliquely across the lattice: two flat regions, no one-triangle
+    /// flat region between the fold's zigzag edges, and the fold itself a few regions (a
+    /// curved strip and the creases beside it), not one per S_P edge.
+    #[test]
+    fn oblique_fold_is_two_flat_regions_and_one_fold() {
+        let (mut sp, mut sg) = sheet();
+        let n = V2::new(1.0, 0.35).normalize();
+        for i in 0..sp.num_vertices() {
+            let q = sp.pattern[i];
+            let d = q.dot(&n) - 0.004;
+            // The far side turns by 0.8 rad over a rounded band 2.5 cm wide (two to three
+            // rows of triangles), as a fold of the simulated sheet does.
+            let (w, turn) = (0.025, 0.8f64);
+            let r = w / turn;
+            let (along, z) = if d <= 0.0 {
+                (d, 0.0)
+            } else if d < w {
+                (r * (d / r).sin(), r * (1.0 - (d / r).cos()))
+            } else {
+                let (c, s) = (turn.cos(), turn.sin());
+                (
+                    r * turn.sin() + (d - w) * c,
+                    r * (1.0 - turn.cos()) + (d - w) * s,
+                )
+            };
+            let t = q - n * q.dot(&n);
+            let p2 = t + n * (along + 0.004);
+            sp.pos[i] = V3::new(p2.x, p2.y, z);
+        }
+        let mut g = layer(&sp);
+        let fixed = vec![false; sp.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        let f = g.frame();
+        let flats: Vec<u32> = f
+            .regions
+            .iter()
+            .filter(|r| r.kind == RegionKind::Flat)
+            .map(|r| r.num_triangles)
+            .collect();
+        let fold = f.regions.len() - flats.len();
+        println!("flat regions {flats:?}, fold regions {fold}");
+        assert_eq!(flats.len(), 2, "{flats:?}");
+        assert!(flats.iter().all(|&n| n >= 20), "{flats:?}");
+        assert!((1..=3).contains(&fold), "{fold} fold regions");
     }
 }
