@@ -66,4 +66,20 @@ fn main() {
         }
     }
     println!("max flat compression {fmax:.4}, max curved compression {cmax:.4}");
+    let g = sim.geometry();
+    let at = g
+        .singular
+        .iter()
+        .filter(|s| (s.pos2 - s.sampled2).norm() < 1e-9)
+        .count();
+    let d: Vec<String> = g
+        .singular
+        .iter()
+        .map(|s| format!("{:.1}", (s.pos2 - s.sampled2).norm() * 1000.0))
+        .collect();
+    println!(
+        "placement: {at} of {} singular points at their drawn position; distances mm: {}",
+        g.singular.len(),
+        d.join(" ")
+    );
 }

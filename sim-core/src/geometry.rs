@@ -116,11 +116,18 @@
 //!   solver's sparse factorization, the allocation-free step, the plugin's preallocated mesh
 //!   and per-vertex contacts all stay valid; and our physics on the fixed lattice already
 //!   measures c_mean ≈ 0.03 %, well inside the seeds' post-remeshing figures.
-//! - **A singular point lives on an S_P vertex.** s̄ is sampled with the seeds' law and σ and
-//!   recorded ([`SingularPoint::sampled2`]), but the d-cone apex is the eligible S_P vertex
-//!   nearest to it among the two faces of ē_sing (interior, not held, not yet singular):
-//!   placement resolution is the S_P edge length (≈ 1.1 cm on the 10 cm sheet, 3.3 cm on A4),
-//!   not σ. When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
+//! - **A singular point lives on an S_P vertex, moved to s̄.** s̄ is sampled with the seeds'
+//!   law and σ ([`SingularPoint::sampled2`]); the d-cone apex is the eligible S_P vertex
+//!   nearest to it among the two faces of ē_sing (interior, not held, not yet singular), and
+//!   that vertex's *pattern* position moves to s̄
+//!   ([`crate::sheet::physical::PhysMesh::move_pattern_vertex`]: rest data and masses follow,
+//!   the 3D point is lifted onto the current surface) — in full when the triangles around it
+//!   stay well shaped and unstrained, else half or a quarter of the way, else not at all (a
+//!   tightly folded star). Measured: the first singular point of C1 sits exactly at s̄ in 28
+//!   of 40 seeded runs; in the full crumple, whose stars are already folded when the points
+//!   appear, 1 of 19 does, the others stay within one S_P edge (≈ 1.1 cm on the 10 cm sheet,
+//!   3.3 cm on A4). When no vertex is eligible nothing is created (the seeds' rare failure,
+//!   P 1631).
 //! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
 //!   triangulation of a flat region show a fold across its other diagonal; here flat regions
 //!   are unions of S_P triangles whose own edges carry every fold, so there is no coarse
@@ -1434,6 +1441,23 @@ impl GeometryLayer {
         let Some((_, v)) = best else {
             return false;
         };
+        // The d-cone apex goes to the drawn position (as far as the triangles around the
+        // vertex stay well shaped): placement resolution σ, not the S_P edge.
+        if sp.move_pattern_vertex(v, pl.pos) != V2::zeros() {
+            let (a, b) = (
+                self.vert_tris_start[v as usize] as usize,
+                self.vert_tris_start[v as usize + 1] as usize,
+            );
+            for k in a..b {
+                let t = self.vert_tris[k] as usize;
+                self.tri_h[t] = (4.0 * sp.tri_rest[t].area_m2 / 3f64.sqrt()).sqrt();
+            }
+            self.iso.refresh_rest(sp);
+            // As `new` reads them, so a sheet restored from the moved pattern matches.
+            self.spacing_m = sp.edge_rest_len_m.iter().sum::<f64>() / sp.num_edges().max(1) as f64;
+            self.theta_sing = THETA0_RAD * (self.spacing_m * RHO_BOUND_PER_M).max(1.0);
+        }
+        let topo = &sp.topo;
         let dihedral_rad = self.out.edge_dihedral_rad[edge as usize].abs();
         // Fibre damage (P eq. 1, T eq. 2.1–2.2) on the edges around v.
         let nbrs = topo.neighbours(v);

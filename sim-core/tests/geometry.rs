@@ -401,11 +401,12 @@ fn layer_off_is_physics_only() {
 /// border orthogonally (lift the front edge) until a singular point appears: exactly one
 /// appears first. Over 20 seeds the first points cluster along one line: the spread of their
 /// sampled positions across that line (the minor axis of their scatter) is O(σ) and shrinks
-/// with σ (σ = 0.1 cm, the printer default, against 0.01 cm). The scatter is printed for
-/// comparison with Fig. 17.
+/// with σ (σ = 0.1 cm, the printer default, against 0.01 cm), and the apex sits exactly at
+/// its drawn position in at least half of the runs (measured 28 of 40; the others move part
+/// of the way, the triangles around the vertex would get too thin). The scatter is printed for comparison with Fig. 17.
 #[test]
 fn first_sharp_feature_appears_alone_after_the_cylinder() {
-    let first_points = |sigma_m: f64| -> Vec<V2> {
+    let first_points = |sigma_m: f64| -> Vec<(V2, V2)> {
         (1..=20u64)
             .map(|seed| {
                 let mut cfg = SimConfig {
@@ -447,7 +448,8 @@ fn first_sharp_feature_appears_alone_after_the_cylinder() {
                             n, 1,
                             "seed {seed}: exactly one singular point appears first"
                         );
-                        return sim.geometry().singular[0].sampled2;
+                        let s0 = sim.geometry().singular[0];
+                        return (s0.sampled2, s0.pos2);
                     }
                 }
                 panic!("seed {seed}: no sharp feature");
@@ -468,8 +470,19 @@ fn first_sharp_feature_appears_alone_after_the_cylinder() {
         let disc = ((a - c) * (a - c) / 4.0 + b * b).sqrt();
         ((a + c) / 2.0 - disc).max(0.0).sqrt()
     };
-    let wide = first_points(1e-3);
-    let narrow = first_points(1e-4);
+    let wide_runs = first_points(1e-3);
+    let narrow_runs = first_points(1e-4);
+    // The apex goes to its drawn position s̄ (the S_P vertex moves there), or part of the
+    // way when the triangles around it would be too distorted.
+    let at_drawn = wide_runs
+        .iter()
+        .chain(&narrow_runs)
+        .filter(|(s, p)| s == p)
+        .count();
+    println!("apex at its drawn position in {at_drawn} of 40 runs");
+    assert!(at_drawn >= 20, "apex at s̄ in only {at_drawn} of 40 runs");
+    let wide: Vec<V2> = wide_runs.iter().map(|r| r.0).collect();
+    let narrow: Vec<V2> = narrow_runs.iter().map(|r| r.0).collect();
     for (i, p) in wide.iter().enumerate() {
         println!(
             "seed {}: first singular point sampled at ({:.4}, {:.4}) m",

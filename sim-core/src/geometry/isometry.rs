@@ -137,6 +137,15 @@ fn cw(a: &V3, b: &V3) -> V3 {
 }
 
 impl Isometry {
+    /// Re-reads the pattern lengths after S_P's rest shape changed (a singular vertex moved
+    /// to its drawn pattern position), as [`Self::new`] reads them. No allocation.
+    pub fn refresh_rest(&mut self, sp: &PhysMesh) {
+        self.l_mean = sp.edge_rest_len_m.iter().sum::<f64>() / sp.num_edges().max(1) as f64;
+        for (lb, l) in self.lbar.iter_mut().zip(&sp.edge_rest_len_m) {
+            *lb = l / self.l_mean;
+        }
+    }
+
     /// Workspace for `sp`'s connectivity.
     pub fn new(sp: &PhysMesh) -> Self {
         let topo = &sp.topo;

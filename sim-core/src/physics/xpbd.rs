@@ -36,12 +36,26 @@ pub struct XpbdSolver {
     lambda_hinge: Vec<f64>,
     edge_weight: Vec<f64>,
     inv_mass: Vec<f64>,
+    /// `PhysMesh::rest_version` the edge weights were computed for.
+    rest_version: u64,
 }
 
 impl XpbdSolver {
     /// Workspace for a mesh.
     pub fn new(mesh: &PhysMesh) -> Self {
-        let mut edge_weight = vec![0.0; mesh.num_edges()];
+        let mut s = Self {
+            lambda_edge: vec![0.0; mesh.num_edges()],
+            lambda_hinge: vec![0.0; mesh.hinges.len()],
+            edge_weight: vec![0.0; mesh.num_edges()],
+            inv_mass: vec![0.0; mesh.num_vertices()],
+            rest_version: mesh.rest_version,
+        };
+        s.refresh_rest(mesh);
+        s
+    }
+
+    /// Edge weights from the mesh's rest shape (again after it changed). No allocation.
+    fn refresh_rest(&mut self, mesh: &PhysMesh) {
         for (e, ed) in mesh.topo.edges.iter().enumerate() {
             let mut area = 0.0;
             for &h in &ed.he {
@@ -50,14 +64,9 @@ impl XpbdSolver {
                 }
             }
             let l = mesh.edge_rest_len_m[e];
-            edge_weight[e] = area / (l * l);
+            self.edge_weight[e] = area / (l * l);
         }
-        Self {
-            lambda_edge: vec![0.0; mesh.num_edges()],
-            lambda_hinge: vec![0.0; mesh.hinges.len()],
-            edge_weight,
-            inv_mass: vec![0.0; mesh.num_vertices()],
-        }
+        self.rest_version = mesh.rest_version;
     }
 
     /// One XPBD substep.
@@ -71,6 +80,9 @@ impl XpbdSolver {
         cfg: &SolverConfig,
         h: f64,
     ) -> SubstepReport {
+        if self.rest_version != mesh.rest_version {
+            self.refresh_rest(mesh);
+        }
         let n = mesh.num_vertices();
         let g = V3::new(0.0, 0.0, -GRAVITY_M_S2);
         for i in 0..n {

@@ -54,6 +54,11 @@ pub struct PhysMesh {
     pub vel: Vec<V3>,
     /// Lumped pattern area per vertex, m².
     pub vertex_area_m2: Vec<f64>,
+    /// Areal density the masses were lumped with, kg/m².
+    pub areal_density_kg_m2: f64,
+    /// Incremented whenever the rest shape (pattern) changes, so solvers that cache rest
+    /// data refresh it.
+    pub rest_version: u64,
     /// Lumped mass per vertex, kg (ρ × lumped area).
     pub mass_kg: Vec<f64>,
     /// Triangles, counter-clockwise in the pattern.
@@ -167,6 +172,8 @@ impl PhysMesh {
                 .map(|a| a * areal_density_kg_m2)
                 .collect(),
             vertex_area_m2: vertex_area,
+            areal_density_kg_m2,
+            rest_version: 0,
             pattern: p.points.clone(),
             triangles: p.triangles.clone(),
             topo,
@@ -195,8 +202,127 @@ impl PhysMesh {
         self.topo.edges.len()
     }
 
+    /// Moves interior vertex `v` of the pattern towards `target` (a singular point's drawn
+    /// position, thesis §2.4.3: s̄ is fixed in the pattern), as far as the triangles around
+    /// it stay well shaped: the full move, else half, else a quarter, else none. The vertex's
+    /// 3D position moves to the point of the current surface over the new pattern position
+    /// (barycentric in the triangle of the old pattern that contains it); a fraction is taken
+    /// only if every triangle around `v` keeps 40–250 % of its pattern area, its orientation,
+    /// and a strain under 2 % over the current surface (a tightly folded star does not move). The rest
+    /// data of the triangles, edges and hinges around `v` and the lumped masses follow,
+    /// computed exactly as [`Self::from_pattern`] does (a sheet rebuilt from the moved
+    /// pattern is bit-identical), and `rest_version` is bumped. No allocation. Returns the
+    /// pattern displacement made (zero if `v` is on the boundary or no fraction fits).
+    pub fn move_pattern_vertex(&mut self, v: u32, target: V2) -> V2 {
+        let vi = v as usize;
+        if self.topo.vertex_on_boundary[vi] || !(target.x.is_finite() && target.y.is_finite()) {
+            return V2::zeros();
+        }
+        let old = self.pattern[vi];
+        // 3D point of the current surface over pattern point `p` (barycentric in the star
+        // triangle of the old pattern that contains it, or comes closest to).
+        let lift = |mesh: &Self, p: V2| {
+            let mut best: Option<(f64, V3)> = None;
+            for tri in &mesh.triangles {
+                if !tri.contains(&v) {
+                    continue;
+                }
+                let [a, b, c] = tri.map(|i| mesh.pattern[i as usize]);
+                let det = (b - a).perp(&(c - a));
+                let l1 = (p - a).perp(&(c - a)) / det;
+                let l2 = (b - a).perp(&(p - a)) / det;
+                let l0 = 1.0 - l1 - l2;
+                let inside = l0.min(l1).min(l2);
+                if best.is_none_or(|(m, _)| inside > m) {
+                    let [x0, x1, x2] = tri.map(|i| mesh.pos[i as usize]);
+                    best = Some((inside, x0 * l0 + x1 * l1 + x2 * l2));
+                }
+            }
+            best.map(|(_, x)| x)
+        };
+        // Every triangle around v keeps 40–250 % of its pattern area, and over the current
+        // surface keeps its orientation and stretches or shrinks by less than 2 %.
+        let fits = |mesh: &Self, p: V2, x: V3| {
+            mesh.triangles.iter().enumerate().all(|(t, tri)| {
+                if !tri.contains(&v) {
+                    return true;
+                }
+                let [a, b, c] = tri.map(|i| if i == v { p } else { mesh.pattern[i as usize] });
+                let area = signed_area(a, b, c);
+                if !(0.4..=2.5).contains(&(area / mesh.tri_rest[t].area_m2)) {
+                    return false;
+                }
+                let [x0, x1, x2] = tri.map(|i| if i == v { x } else { mesh.pos[i as usize] });
+                let [y0, y1, y2] = tri.map(|i| mesh.pos[i as usize]);
+                let (n_new, n_old) = ((x1 - x0).cross(&(x2 - x0)), (y1 - y0).cross(&(y2 - y0)));
+                if n_new.dot(&n_old) <= 0.0 {
+                    return false;
+                }
+                let Some(dm_inv) = M2::from_columns(&[b - a, c - a]).try_inverse() else {
+                    return false;
+                };
+                let (e1, e2) = (x1 - x0, x2 - x0);
+                let f1 = e1 * dm_inv[(0, 0)] + e2 * dm_inv[(1, 0)];
+                let f2 = e1 * dm_inv[(0, 1)] + e2 * dm_inv[(1, 1)];
+                let (c11, c12, c22) = (f1.dot(&f1), f1.dot(&f2), f2.dot(&f2));
+                let disc = ((c11 - c22) * (c11 - c22) / 4.0 + c12 * c12).sqrt();
+                let (lo, hi) = ((c11 + c22) / 2.0 - disc, (c11 + c22) / 2.0 + disc);
+                lo > 0.98 * 0.98 && hi < 1.02 * 1.02
+            })
+        };
+        let Some((p, x)) = [1.0, 0.5, 0.25].into_iter().find_map(|f| {
+            let p = old + (target - old) * f;
+            let x = lift(self, p)?;
+            (x.iter().all(|c| c.is_finite()) && fits(self, p, x)).then_some((p, x))
+        }) else {
+            return V2::zeros();
+        };
+        self.pos[vi] = x;
+        self.pattern[vi] = p;
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if !tri.contains(&v) {
+                continue;
+            }
+            let [a, b, c] = tri.map(|i| self.pattern[i as usize]);
+            let dm = M2::from_columns(&[b - a, c - a]);
+            if let Some(dm_inv) = dm.try_inverse() {
+                self.tri_rest[t] = TriRest {
+                    dm_inv,
+                    area_m2: signed_area(a, b, c),
+                };
+            }
+        }
+        for (ei, e) in self.topo.edges.iter().enumerate() {
+            if e.v.contains(&v) {
+                self.edge_rest_len_m[ei] =
+                    (self.pattern[e.v[1] as usize] - self.pattern[e.v[0] as usize]).norm();
+            }
+        }
+        for h in &mut self.hinges {
+            if h.v.contains(&v) {
+                let e = &self.topo.edges[h.edge as usize];
+                let fa = self.topo.half_edges[e.he[0] as usize].face as usize;
+                let fb = self.topo.half_edges[e.he[1] as usize].face as usize;
+                let l = self.edge_rest_len_m[h.edge as usize];
+                h.weight = l * l / (self.tri_rest[fa].area_m2 + self.tri_rest[fb].area_m2);
+            }
+        }
+        for a in &mut self.vertex_area_m2 {
+            *a = 0.0;
+        }
+        for (t, tri) in self.triangles.iter().enumerate() {
+            for &i in tri {
+                self.vertex_area_m2[i as usize] += self.tri_rest[t].area_m2 / 3.0;
+            }
+        }
+        self.set_areal_density(self.areal_density_kg_m2);
+        self.rest_version += 1;
+        p - old
+    }
+
     /// Re-lumps the masses for a new areal density (no allocation).
     pub fn set_areal_density(&mut self, areal_density_kg_m2: f64) {
+        self.areal_density_kg_m2 = areal_density_kg_m2;
         for (m, a) in self.mass_kg.iter_mut().zip(&self.vertex_area_m2) {
             *m = a * areal_density_kg_m2;
         }
@@ -252,5 +378,44 @@ mod tests {
             PhysMesh::from_pattern(&p, 0.0, 0.1).unwrap_err(),
             MeshError::DegenerateTriangle(0)
         );
+    }
+
+    /// Moving an interior vertex of the pattern: the rest data, masses and 3D position follow
+    /// (a flat sheet stays unstrained), and a mesh rebuilt from the moved pattern is
+    /// bit-identical in everything the physics reads.
+    #[test]
+    fn moved_pattern_vertex_matches_a_mesh_built_from_the_moved_pattern() {
+        let p = lattice(0.1, 0.1, 0.011);
+        let mut sp = PhysMesh::from_pattern(&p, 0.02, 0.08).unwrap();
+        let v = (0..sp.num_vertices())
+            .filter(|&i| !sp.topo.vertex_on_boundary[i])
+            .min_by(|&a, &b| sp.pattern[a].norm().total_cmp(&sp.pattern[b].norm()))
+            .unwrap();
+        let before = sp.pattern[v];
+        let mass: f64 = sp.total_mass_kg();
+        let d = sp.move_pattern_vertex(v as u32, before + V2::new(0.003, -0.002));
+        assert_eq!(d, V2::new(0.003, -0.002));
+        assert_eq!(sp.rest_version, 1);
+        let want = sp.pattern[v];
+        assert!((sp.pos[v] - V3::new(want.x, want.y, 0.02)).norm() < 1e-12);
+        assert!((sp.total_mass_kg() - mass).abs() < 1e-15);
+        let mut moved = p.clone();
+        moved.points[v] = want;
+        let fresh = PhysMesh::from_pattern(&moved, 0.02, 0.08).unwrap();
+        assert_eq!(sp.pattern, fresh.pattern);
+        assert_eq!(sp.tri_rest, fresh.tri_rest);
+        assert_eq!(sp.edge_rest_len_m, fresh.edge_rest_len_m);
+        assert_eq!(sp.mass_kg, fresh.mass_kg);
+        let w: Vec<f64> = sp.hinges.iter().map(|h| h.weight).collect();
+        let wf: Vec<f64> = fresh.hinges.iter().map(|h| h.weight).collect();
+        assert_eq!(w, wf);
+        // A move that would fold a triangle over is refused; a boundary vertex never moves.
+        let far = sp.pattern[v] + V2::new(0.05, 0.0);
+        let d = sp.move_pattern_vertex(v as u32, far);
+        assert!(d.norm() < 0.011, "moved {d:?} past its neighbours");
+        let b = (0..sp.num_vertices())
+            .find(|&i| sp.topo.vertex_on_boundary[i])
+            .unwrap();
+        assert_eq!(sp.move_pattern_vertex(b as u32, V2::zeros()), V2::zeros());
     }
 }
