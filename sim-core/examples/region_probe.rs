@@ -21,16 +21,7 @@ fn main() {
         ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default()).expect("runner");
     let mut sim = runner.start(cfg);
     let mut out = FrameOutput::default();
-    let mut cmds = Vec::new();
-    while sim.time_s() < at_s && {
-        cmds.clear();
-        runner.next_frame(&mut cmds)
-    } {
-        for c in cmds.drain(..) {
-            sim.apply(c);
-        }
-        sim.step(&mut out);
-    }
+    while sim.time_s() < at_s && runner.drive(&mut sim, &mut out) {}
     let g = sim.geometry();
     println!("t {:.3} s: {} regions", sim.time_s(), g.regions.len());
     for (i, r) in g.regions.iter().enumerate() {

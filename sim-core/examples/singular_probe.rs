@@ -36,16 +36,8 @@ fn main() {
         ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default()).expect("runner");
     let mut sim = runner.start(cfg);
     let mut out = FrameOutput::default();
-    let mut cmds = Vec::new();
     let (mut fmax, mut cmax) = (0.0f64, 0.0f64);
-    while {
-        cmds.clear();
-        runner.next_frame(&mut cmds)
-    } {
-        for c in cmds.drain(..) {
-            sim.apply(c);
-        }
-        sim.step(&mut out);
+    while runner.drive(&mut sim, &mut out) {
         let g = sim.geometry();
         fmax = fmax.max(g.max_flat_compression);
         cmax = cmax.max(g.max_curved_compression);

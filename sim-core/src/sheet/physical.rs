@@ -15,7 +15,8 @@
 //! the singular list and positions; a future remeshing would rebuild this
 //! structure, which is allowed to allocate (a connectivity change is not a steady-state step).
 
-use crate::math::{M2, V2, V3};
+use crate::math::{M2, V2, V3, sym2_eigen};
+use crate::physics::membrane::green_strain;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::topology::{NONE, Topology, TopologyError};
 
@@ -261,13 +262,14 @@ impl PhysMesh {
                 let Some(dm_inv) = M2::from_columns(&[b - a, c - a]).try_inverse() else {
                     return false;
                 };
-                let (e1, e2) = (x1 - x0, x2 - x0);
-                let f1 = e1 * dm_inv[(0, 0)] + e2 * dm_inv[(1, 0)];
-                let f2 = e1 * dm_inv[(0, 1)] + e2 * dm_inv[(1, 1)];
-                let (c11, c12, c22) = (f1.dot(&f1), f1.dot(&f2), f2.dot(&f2));
-                let disc = ((c11 - c22) * (c11 - c22) / 4.0 + c12 * c12).sqrt();
-                let (lo, hi) = ((c11 + c22) / 2.0 - disc, (c11 + c22) / 2.0 + disc);
-                lo > 0.98 * 0.98 && hi < 1.02 * 1.02
+                // Principal Green strains (λ² − 1)/2 for stretch ratios λ within ±2 %.
+                let rest = TriRest {
+                    dm_inv,
+                    area_m2: area,
+                };
+                let (g, _) = green_strain([x0, x1, x2], &rest);
+                let (lo, hi, _) = sym2_eigen(g[(0, 0)], g[(0, 1)], g[(1, 1)]);
+                lo > 0.5 * (0.98 * 0.98 - 1.0) && hi < 0.5 * (1.02 * 1.02 - 1.0)
             })
         };
         let Some((p, x)) = [1.0, 0.5, 0.25].into_iter().find_map(|f| {
