@@ -147,7 +147,7 @@
 //! | 6 ε_blaschke | RMS distance √(e/N) compared with 0.5 % L_paper |
 //! | 7 λ | c_t = 1 − λ_min |
 //! | 8 fibre damage | interior singular vertices only, sign of the fold at creation, D = 10 applied |
-//! | 9 tangent control | handled by [`crate::handles`] (2 neighbours on a border, up to 4 at a corner) |
+//! | 9 tangent control | handled by [`crate::handles`] (2 neighbours at a corner, 3 on a border, 4 inside: the seeds give 2 on a border and up to 4 at a corner, digest §9 item 9; ours hold a corner by its two edges and keep a border grip from rotating about the edge line) |
 //! | 10 span removed around a new singularity | no rulings are stored per triangle, so nothing is removed: the new apex's fan is what the region partition and cone fit see next frame |
 //! | 11 W_stress | standard StVK ([`crate::physics::membrane`]) |
 //! | 12 a_max | ridges are rulings with dihedral > [`RIDGE_RAD`] = 0.5 rad |
@@ -512,6 +512,9 @@ pub struct GeometryFrame {
     pub cones: Vec<ConeInfo>,
     /// Junction points (boundary S_P vertices between a flat and a curved triangle).
     pub junctions: Vec<u32>,
+    /// Held S_P vertices this frame (each handle's vertex and its tangent-plane neighbours,
+    /// [`crate::handles`]): S_G's handle vertices (P 388–394).
+    pub held: Vec<u32>,
     /// Signed dihedral angle of every S_P edge, radians (0 on the boundary).
     pub edge_dihedral_rad: Vec<f64>,
     /// This frame's sudden shape changes (at most [`MAX_EVENTS`]; `events_dropped` counts
@@ -564,6 +567,34 @@ impl GeometryFrame {
             }
             None => &[],
         }
+    }
+
+    /// The whole S_G vertex set of this frame (see [`crate::sheet::geometric`]): the
+    /// persistent corners, boundary samples and interior singular vertices of `sg`, then the
+    /// junction points and the held (handle) vertices, each with its pattern and current 3D
+    /// position from `sp`. Allocation-free.
+    pub fn sg_vertices<'a>(
+        &'a self,
+        sg: &'a GeomStructure,
+        sp: &'a PhysMesh,
+    ) -> impl Iterator<Item = GVertex> + 'a {
+        let per_frame = |kind: VKind| {
+            move |&v: &u32| GVertex {
+                p2: sp.pattern[v as usize],
+                p3: sp.pos[v as usize],
+                kind,
+                bound_s_m: None,
+                sp_index: v,
+            }
+        };
+        sg.vertices
+            .iter()
+            .map(|g| GVertex {
+                p3: sp.pos[g.sp_index as usize],
+                ..*g
+            })
+            .chain(self.junctions.iter().map(per_frame(VKind::Junction)))
+            .chain(self.held.iter().map(per_frame(VKind::Handle)))
     }
 
     /// Ridges: rulings bent beyond [`RIDGE_RAD`].
@@ -694,6 +725,7 @@ impl GeometryLayer {
             singular: Vec::with_capacity(nv),
             cones: Vec::with_capacity(2 * nreg),
             junctions: Vec::with_capacity(nv),
+            held: Vec::with_capacity(nv),
             edge_dihedral_rad: vec![0.0; ne],
             events: Vec::with_capacity(MAX_EVENTS),
             ..GeometryFrame::default()
@@ -935,6 +967,10 @@ impl GeometryLayer {
         self.out.frame = frame;
         self.out.events.clear();
         self.out.events_dropped = 0;
+        self.out.held.clear();
+        self.out
+            .held
+            .extend((0..fixed.len() as u32).filter(|&v| fixed[v as usize]));
         self.analyse_shape(sp);
         self.classify();
         let flats_before = self.out.num_flat_regions;
@@ -2235,6 +2271,67 @@ mod tests {
                 .any(|c| c.region == big.0 as u32 && !c.is_gap)
         );
         assert!(f.singular.is_empty());
+    }
+
+    /// S_G of a frame ([`GeometryFrame::sg_vertices`]): a sheet flat for x < 0 and rolled for
+    /// x > 0, held at two vertices, lists its corners and boundary samples, a junction point
+    /// on each border the bend crosses, the held vertices as handles, and, once two folds
+    /// cross, the new singular vertex — each at its S_P vertex's pattern and 3D position.
+    #[test]
+    fn frame_lists_every_kind_of_sg_vertex_with_its_positions() {
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        let check = |shape: &dyn Fn(V2) -> V3, held: &[usize]| {
+            let (mut sp, mut sg) = sheet();
+            for i in 0..sp.num_vertices() {
+                sp.pos[i] = shape(sp.pattern[i]);
+            }
+            let mut g = layer(&sp);
+            let mut fixed = vec![false; sp.num_vertices()];
+            for &v in held {
+                fixed[v] = true;
+            }
+            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+            sg.validate(&sp).unwrap();
+            let mut count = [0usize; 5];
+            for v in g.frame().sg_vertices(&sg, &sp) {
+                let i = v.sp_index as usize;
+                assert_eq!(v.p2, sp.pattern[i]);
+                assert_eq!(v.p3, sp.pos[i]);
+                let on_boundary = sp.topo.vertex_on_boundary[i];
+                match v.kind {
+                    VKind::Boundary | VKind::Corner | VKind::Junction => assert!(on_boundary),
+                    VKind::InteriorSingular => assert!(!on_boundary),
+                    VKind::Handle => assert!(fixed[i]),
+                }
+                count[v.kind as usize] += 1;
+            }
+            count
+        };
+        let r = 0.02;
+        let half_roll = |q: V2| {
+            if q.x <= 0.0 {
+                V3::new(q.x, q.y, 0.0)
+            } else {
+                let a = q.x / r;
+                V3::new(r * a.sin(), q.y, r * (1.0 - a.cos()))
+            }
+        };
+        let [boundary, corner, singular, junction, handle] = check(&half_roll, &[0, 5]);
+        assert!(boundary >= 4, "{boundary} boundary samples");
+        assert_eq!(corner, 4);
+        assert_eq!(singular, 0);
+        assert!(
+            junction >= 2,
+            "{junction} junction points: the bend crosses two borders"
+        );
+        assert_eq!(handle, 2);
+        let roof = |q: V2| V3::new(q.x, q.y, 0.5 * (q.x.abs() + q.y.abs()));
+        let [_, _, singular, _, handle] = check(&roof, &[]);
+        assert!(
+            singular >= 1,
+            "the crossing of two folds is a singular vertex"
+        );
+        assert_eq!(handle, 0);
     }
 
     /// The non-developable-vertex detector: a sheet bent along one direction only (a tight

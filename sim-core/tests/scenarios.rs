@@ -33,9 +33,10 @@ fn every_scenario_is_healthy_and_near_isometric() {
         // seeds' post-isometry figures.
         assert!(s.c_mean_pct < 0.5, "{name}: c_mean {}", s.c_mean_pct);
         assert!(s.n_comp_pct < 10.0, "{name}: n_comp {}", s.n_comp_pct);
-        // Largest transient stretch (a hand slipping in s4_crumple): 0.36 with the geometry
-        // layer, 0.50 for the physics alone on the same script (measured).
-        assert!(s.max_strain < 0.4, "{name}: strain {}", s.max_strain);
+        // Largest Green strain over the scene: 0.053 at most (c5_full_crumple; every scene's
+        // figure is in docs/benchmarks.md), the solver run to convergence. Twice that means
+        // the membrane gave way somewhere.
+        assert!(s.max_strain < 0.1, "{name}: strain {}", s.max_strain);
         assert!(s.max_speed_m_s < 10.0, "{name}: speed {}", s.max_speed_m_s);
         assert!(
             (100.0..=220.0).contains(&s.triangles_avg),

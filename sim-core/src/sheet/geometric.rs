@@ -9,20 +9,25 @@
 //! (P 388–394, T 714). Every S_G vertex is also an S_P vertex (P 351–354, T 665): the map is
 //! [`GVertex::sp_index`].
 //!
-//! This module is the **data model** only. The operations (compression analysis, ruling
-//! propagation, singular-point creation, junction tracking, cone fitting, isometry; digest
-//! §3.1–3.8) are in [`crate::geometry`], which computes the per-frame partition on S_P and
-//! publishes it as [`crate::geometry::GeometryFrame`]; of this structure it maintains the
-//! interior singular vertices (appended here as [`VKind::InteriorSingular`]), while `flats`
-//! and `curved` keep the initial coarse structure (see the geometry module's simplifications).
-//! Here a new sheet gets the initial
-//! structure: one flat region covering the whole pattern, whose vertices are the four corners
-//! and a sparse sampling of the boundary (the thesis samples the 10 cm sheet's boundary with
-//! "12 vertices", T 1130; digest §9 item 2), triangulated by ear clipping; and step (c) of the
-//! frame loop ([`GeomStructure::pull_positions`]) copies the 3D positions from S_P.
+//! ## How Papier stores S_G: a persistent part here, a per-frame part in the geometry layer
 //!
-//! Suggested structures follow digest §1.3; cones keep optional apices (`None` = at infinity,
-//! a generalized cylinder, P 933) and their ruling index range.
+//! The seeds rebuild S_P from S_G every frame, so their S_G must carry the regions as
+//! polygons over its own vertices. Papier keeps a fixed S_P lattice (the geometry module's
+//! simplifications say why) and computes the partition **on S_P triangles** each frame, so
+//! S_G is stored in two parts:
+//!
+//! - [`GeomStructure`] (this module) holds what persists: the corners and boundary samples of
+//!   ∂S̄ (the thesis samples the 10 cm sheet's boundary with "12 vertices", T 1130; digest §9
+//!   item 2) and the interior singular vertices, appended in creation order by the geometry
+//!   layer and never removed (their pattern position is fixed, P 63–66). Step (c) of the frame
+//!   loop ([`GeomStructure::pull_positions`]) copies their 3D positions from S_P.
+//! - [`crate::geometry::GeometryFrame`] holds what the seeds recompute each frame: the flat,
+//!   curved and crease regions (as S_P triangle sets), every curved region's ordered rulings
+//!   with pattern and 3D endpoints, its cones and gap cones with pattern and 3D apices, the
+//!   junction points and the held (handle) vertices.
+//!   [`crate::geometry::GeometryFrame::sg_vertices`] lists the whole S_G vertex set of a frame
+//!   — corners, boundary samples, singular, junction and handle vertices, each with its pattern
+//!   and 3D position — as [`GVertex`] values of the matching [`VKind`].
 
 use crate::math::{V2, V3};
 use crate::sheet::pattern::signed_area;
@@ -38,9 +43,11 @@ pub enum VKind {
     Corner,
     /// An interior singular vertex (d-cone apex): persistent, never moved in 2D.
     InteriorSingular,
-    /// A junction point on ∂S between a curved and a flat region (slides along ∂S̄).
+    /// A junction point on ∂S between a curved and a flat region (slides along ∂S̄; per
+    /// frame, from [`crate::geometry::GeometryFrame::junctions`]).
     Junction,
-    /// A handle ("finger") vertex held by the user.
+    /// A handle ("finger") vertex held by the user (per frame, from
+    /// [`crate::geometry::GeometryFrame::held`]).
     Handle,
 }
 
@@ -60,57 +67,12 @@ pub struct GVertex {
     pub sp_index: u32,
 }
 
-/// A ruling of a curved region: a straight segment between two S_G vertices.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Ruling {
-    /// First endpoint (S_G vertex index).
-    pub a: u32,
-    /// Second endpoint (S_G vertex index).
-    pub b: u32,
-}
-
-/// A generalized cone of a curved region, covering rulings `first..=last`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Cone {
-    /// Apex in the pattern; `None` when the apex is at infinity (generalized cylinder).
-    pub apex2: Option<V2>,
-    /// Apex in 3D; `None` at infinity.
-    pub apex3: Option<V3>,
-    /// First ruling index.
-    pub first: u32,
-    /// Last ruling index (inclusive).
-    pub last: u32,
-    /// True for a gap ("junction") cone between two fitted cones (P 895–901).
-    pub is_gap: bool,
-}
-
-/// A curved region: an ordered family of rulings, segmented into cones.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct CurvedRegion {
-    /// Rulings, ordered across the region.
-    pub rulings: Vec<Ruling>,
-    /// Cone segmentation of the rulings.
-    pub cones: Vec<Cone>,
-    /// Interior singular apex, when the region is a fan around one (case ii, P 277–287).
-    pub singular_apex: Option<u32>,
-}
-
-/// A flat region: planar triangles over S_G vertices.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct FlatRegion {
-    /// Triangles (S_G vertex indices), counter-clockwise in the pattern.
-    pub tris: Vec<[u32; 3]>,
-}
-
 /// The geometric structure S_G.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct GeomStructure {
-    /// Vertices.
+    /// The persistent vertices: corners, boundary samples and interior singular vertices
+    /// (appended in creation order, never removed).
     pub vertices: Vec<GVertex>,
-    /// Flat regions ℱ.
-    pub flats: Vec<FlatRegion>,
-    /// Curved regions 𝒞.
-    pub curved: Vec<CurvedRegion>,
     /// The boundary loop ∂S̄ (S_G vertex indices, counter-clockwise).
     pub boundary_loop: Vec<u32>,
 }
@@ -119,7 +81,7 @@ pub struct GeomStructure {
 pub const INITIAL_BOUNDARY_SAMPLES: usize = 12;
 
 impl GeomStructure {
-    /// The initial structure of a flat sheet over `sp`: one flat region.
+    /// The initial structure of a flat sheet over `sp`: its boundary samples.
     ///
     /// Boundary samples are taken from the S_P boundary loop, about
     /// [`INITIAL_BOUNDARY_SAMPLES`] of them spread by arc length, always including the four
@@ -162,12 +124,8 @@ impl GeomStructure {
             }
         }
         let boundary_loop: Vec<u32> = (0..vertices.len() as u32).collect();
-        let pts: Vec<V2> = vertices.iter().map(|v| v.p2).collect();
-        let tris = ear_clip(&pts);
         Self {
             vertices,
-            flats: vec![FlatRegion { tris }],
-            curved: Vec::new(),
             boundary_loop,
         }
     }
@@ -188,9 +146,9 @@ impl GeomStructure {
             .count()
     }
 
-    /// Checks the structure against S_P: indices in range, S_G ⊂ S_P with matching pattern
-    /// positions, counter-clockwise flat triangles, and flat triangles covering the pattern
-    /// area when there is no curved region.
+    /// Checks the structure against S_P: S_G ⊂ S_P with matching pattern positions, four
+    /// corners, a boundary loop over boundary vertices that encloses the pattern's area
+    /// counter-clockwise, and interior singular vertices off the boundary.
     pub fn validate(&self, sp: &PhysMesh) -> Result<(), String> {
         let nv = self.vertices.len() as u32;
         for (i, v) in self.vertices.iter().enumerate() {
@@ -202,38 +160,45 @@ impl GeomStructure {
                     "S_G vertex {i} is not at its S_P vertex's pattern position"
                 ));
             }
+            let on_boundary = sp.topo.vertex_on_boundary[v.sp_index as usize];
+            match v.kind {
+                VKind::Boundary | VKind::Corner if !on_boundary => {
+                    return Err(format!("S_G boundary vertex {i} is inside the sheet"));
+                }
+                VKind::InteriorSingular if on_boundary => {
+                    return Err(format!("S_G singular vertex {i} is on the boundary"));
+                }
+                VKind::Junction | VKind::Handle => {
+                    return Err(format!(
+                        "S_G vertex {i}: per-frame kind stored as persistent"
+                    ));
+                }
+                _ => {}
+            }
+        }
+        let corners = self
+            .vertices
+            .iter()
+            .filter(|v| v.kind == VKind::Corner)
+            .count();
+        if corners != 4 {
+            return Err(format!("{corners} corners, want 4"));
         }
         let mut area = 0.0;
-        for f in &self.flats {
-            for t in &f.tris {
-                if t.iter().any(|&i| i >= nv) {
-                    return Err("flat triangle index out of range".into());
-                }
-                let a = signed_area(
-                    self.vertices[t[0] as usize].p2,
-                    self.vertices[t[1] as usize].p2,
-                    self.vertices[t[2] as usize].p2,
-                );
-                if a <= 0.0 {
-                    return Err(format!("flat triangle {t:?} is not counter-clockwise"));
-                }
-                area += a;
+        let n = self.boundary_loop.len();
+        for k in 0..n {
+            let (a, b) = (self.boundary_loop[k], self.boundary_loop[(k + 1) % n]);
+            if a >= nv || b >= nv {
+                return Err("boundary loop index out of range".into());
             }
+            let (pa, pb) = (self.vertices[a as usize].p2, self.vertices[b as usize].p2);
+            area += 0.5 * pa.perp(&pb);
         }
-        for c in &self.curved {
-            for r in &c.rulings {
-                if r.a >= nv || r.b >= nv {
-                    return Err("ruling index out of range".into());
-                }
-            }
-        }
-        if self.curved.is_empty() {
-            let sp_area: f64 = sp.tri_rest.iter().map(|t| t.area_m2).sum();
-            if (area - sp_area).abs() > 1e-9 * sp_area.max(1e-12) {
-                return Err(format!(
-                    "flat regions cover {area} m², the sheet is {sp_area} m²"
-                ));
-            }
+        let sp_area: f64 = sp.tri_rest.iter().map(|t| t.area_m2).sum();
+        if (area - sp_area).abs() > 1e-9 * sp_area.max(1e-12) {
+            return Err(format!(
+                "the boundary loop encloses {area} m², the sheet is {sp_area} m²"
+            ));
         }
         Ok(())
     }
@@ -267,72 +232,16 @@ pub fn boundary_loop(sp: &PhysMesh) -> Vec<u32> {
     out
 }
 
-/// Ear-clipping triangulation of a simple counter-clockwise polygon (collinear vertices
-/// allowed), preferring the best-shaped ear at each step. O(n³) — only for small polygons.
-pub fn ear_clip(pts: &[V2]) -> Vec<[u32; 3]> {
-    let mut idx: Vec<u32> = (0..pts.len() as u32).collect();
-    let mut out = Vec::with_capacity(pts.len().saturating_sub(2));
-    while idx.len() > 3 {
-        let n = idx.len();
-        let mut best: Option<(f64, usize)> = None;
-        for k in 0..n {
-            let (ia, ib, ic) = (idx[(k + n - 1) % n], idx[k], idx[(k + 1) % n]);
-            let (a, b, c) = (pts[ia as usize], pts[ib as usize], pts[ic as usize]);
-            let area = signed_area(a, b, c);
-            let scale = (b - a)
-                .norm_squared()
-                .max((c - b).norm_squared())
-                .max(1e-300);
-            if area <= 1e-12 * scale {
-                continue;
-            }
-            let contains_other = idx.iter().any(|&j| {
-                j != ia && j != ib && j != ic && {
-                    let p = pts[j as usize];
-                    signed_area(a, b, p) >= 0.0
-                        && signed_area(b, c, p) >= 0.0
-                        && signed_area(c, a, p) >= 0.0
-                }
-            });
-            if contains_other {
-                continue;
-            }
-            // Shape quality: area over the squared longest edge.
-            let longest = (b - a)
-                .norm_squared()
-                .max((c - b).norm_squared())
-                .max((a - c).norm_squared());
-            let q = area / longest;
-            if best.is_none_or(|(bq, _)| q > bq) {
-                best = Some((q, k));
-            }
-        }
-        let Some((_, k)) = best else { break };
-        let n = idx.len();
-        out.push([idx[(k + n - 1) % n], idx[k], idx[(k + 1) % n]]);
-        idx.remove(k);
-    }
-    if idx.len() == 3 {
-        let [a, b, c] = [idx[0], idx[1], idx[2]];
-        if signed_area(pts[a as usize], pts[b as usize], pts[c as usize]) > 0.0 {
-            out.push([a, b, c]);
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::sheet::pattern::lattice;
 
     #[test]
-    fn initial_structure_is_one_flat_region_over_the_sheet() {
+    fn initial_structure_samples_the_boundary() {
         for &(w, l, s) in &[(0.21, 0.297, 0.033), (0.1, 0.1, 0.011)] {
             let sp = PhysMesh::from_pattern(&lattice(w, l, s), 0.75, 0.1).unwrap();
             let sg = GeomStructure::initial(&sp);
-            assert_eq!(sg.flats.len(), 1);
-            assert!(sg.curved.is_empty());
             assert_eq!(sg.num_singular(), 0);
             let corners = sg
                 .vertices
@@ -362,24 +271,5 @@ mod tests {
             area += 0.5 * a.perp(&b);
         }
         assert!((area - 0.21 * 0.297).abs() < 1e-12);
-    }
-
-    #[test]
-    fn ear_clip_handles_collinear_points() {
-        let pts = vec![
-            V2::new(0.0, 0.0),
-            V2::new(1.0, 0.0),
-            V2::new(2.0, 0.0),
-            V2::new(2.0, 1.0),
-            V2::new(1.0, 1.0),
-            V2::new(0.0, 1.0),
-        ];
-        let t = ear_clip(&pts);
-        assert_eq!(t.len(), 4);
-        let area: f64 = t
-            .iter()
-            .map(|t| signed_area(pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]))
-            .sum();
-        assert!((area - 2.0).abs() < 1e-12);
     }
 }
