@@ -85,11 +85,18 @@ pub struct SolverConfig {
 
 impl Default for SolverConfig {
     /// The solver and parameters chosen by measurement (`cargo xtask bench-report`,
-    /// `docs/benchmarks.md`, sim-report section): Newton reaches a 3–6× lower length error
-    /// than XPBD at the same time per frame and never turns a triangle over; one substep per
-    /// frame is as accurate as 2 or 4 (the error comes from the model, not the time step); and
-    /// the stretching stiffness scaled by 0.03 (15 kN/m for printer paper) gave the lowest
-    /// error at equal cost among 0.003, 0.01, 0.03 and 0.1.
+    /// `docs/benchmarks.md`, sim-report section, physics only, mean over the 12 seed scenarios):
+    ///
+    /// - **Newton, not XPBD**: at about the same time per frame, Newton 1×10 reaches c_mean
+    ///   0.0089 % / n_comp 0.05 % in 0.56 ms, XPBD 20×1 0.19 % / 3.6 % in 0.61 ms (21× the
+    ///   error); XPBD needs 80 substeps (2.1 ms) to come within 4× of Newton's error, and it
+    ///   turned triangles over in 4 of its 5 time steps at the default density (Newton never
+    ///   did).
+    /// - **One substep**: 2×10 and 4×10 give the same error (0.0097 %, 0.0093 %) at 1.4× and 2×
+    ///   the median time and 2–3.5× the p99 (the error comes from the model, not the time step).
+    /// - **Stretching stiffness × 0.03** (15 kN/m for printer paper) is the knee of the stiffness
+    ///   sweep: × 0.1 halves the error (0.0045 %) for 30 % more time, × 0.01 and × 0.003 save
+    ///   2–12 % of the time for 3–7× the error.
     ///
     /// **Iterations: up to 10**, stopping at the tolerance (the seeds: "convergence after 10
     /// to 100 iterations", 4–11 measured on average). A cap of 3 was cheaper per frame but

@@ -275,7 +275,16 @@ fn variants(quick: bool) -> Vec<Variant> {
     let newton_grid: &[(u32, u32)] = if quick {
         &[(1, 1), (1, 5)]
     } else {
-        &[(1, 1), (1, 2), (1, 3), (1, 5), (2, 2), (4, 2)]
+        &[
+            (1, 1),
+            (1, 2),
+            (1, 3),
+            (1, 5),
+            (2, 2),
+            (4, 2),
+            (2, 10),
+            (4, 10),
+        ]
     };
     for &(s, i) in newton_grid {
         let sc = newton(s, i);
@@ -303,7 +312,7 @@ fn variants(quick: bool) -> Vec<Variant> {
         }
     }
     if !quick {
-        for k in [0.003, 0.03, 0.1] {
+        for k in [0.003, 0.01, 0.03, 0.1] {
             v.push(variant(
                 "stiffness",
                 SolverConfig {
@@ -503,6 +512,11 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
     std::fs::create_dir_all(root.join("docs/benchmarks"))?;
     let png = root.join("docs/benchmarks/sim_frontier.png");
     plot(&png, &results, &pts, exponent, &fine)?;
+    let png_scenes = root.join("docs/benchmarks/sim_frontier_scenarios.png");
+    plot_scenarios(&png_scenes, &results, &fine)?;
+    let csv = root.join("docs/benchmarks/sim_frontier.csv");
+    std::fs::write(&csv, frontier_csv(&results, &scaling, &fine))
+        .with_context(|| format!("writing {}", csv.display()))?;
     let md = report(&Report {
         command: &command,
         reps,
@@ -518,9 +532,11 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
     let path = root.join("docs/benchmarks.md");
     write_section(&path, &md)?;
     println!(
-        "wrote {} (sim-report section) and {} in {elapsed:.0} s",
+        "wrote {} (sim-report section), {}, {} and {} in {elapsed:.0} s",
         path.display(),
-        png.display()
+        png.display(),
+        png_scenes.display(),
+        csv.display()
     );
     Ok(())
 }
@@ -630,6 +646,7 @@ fn report(r: &Report<'_>) -> String {
         d.median_ms() - p.median_ms(),
         d.max(|x| x.strain)
     );
+    target_misses(&mut s, d, p);
     let _ = writeln!(
         s,
         "Seeds for comparison (TOG Tables IV–V, after their isometry step, 87–156 triangles): \
@@ -677,6 +694,7 @@ fn report(r: &Report<'_>) -> String {
         s,
         "\n![run time against error](benchmarks/sim_frontier.png)\n"
     );
+    per_scenario_frontier(&mut s, r.results);
 
     // Decision text from the data.
     let best_at = |kind: SolverKind, budget: f64| {
@@ -833,6 +851,129 @@ fn report(r: &Report<'_>) -> String {
     s
 }
 
+/// Lists every scenario of the default row that misses a target (the whole-frame median
+/// ≤ 1 ms, p99 ≤ 4 ms, c_mean ≤ 0.2 %, n_comp ≤ 1 %, geometry ≤ 0.2 ms), or says none does.
+fn target_misses(s: &mut String, d: &VariantResult, p: &VariantResult) {
+    let mut misses = Vec::new();
+    for (x, y) in d.scenarios.iter().zip(&p.scenarios) {
+        let checks = [
+            ("median", x.median_ms, 1.0, "ms"),
+            ("p99", x.p99_ms, 4.0, "ms"),
+            ("c_mean", x.c_mean, 0.2, "%"),
+            ("n_comp", x.n_comp, 1.0, "%"),
+            ("geometry", x.median_ms - y.median_ms, 0.2, "ms"),
+        ];
+        for (what, value, limit, unit) in checks {
+            if value > limit {
+                misses.push(format!(
+                    "{} {what} {value:.3} {unit} > {limit} {unit}",
+                    x.name
+                ));
+            }
+        }
+    }
+    let _ = if misses.is_empty() {
+        writeln!(s, "**Targets:** every scenario meets every target.\n")
+    } else {
+        writeln!(
+            s,
+            "**Targets missed** (per scenario, default configuration): {}.\n",
+            misses.join("; ")
+        )
+    };
+}
+
+/// The frontier scenario by scenario: two matrices (configurations × scenarios), time
+/// (median / p99 ms) and error (c_mean % / n_comp %). The CSV next to the plot has the same
+/// numbers with every column.
+fn per_scenario_frontier(s: &mut String, results: &[VariantResult]) {
+    let Some(first) = results.first() else {
+        return;
+    };
+    let names: Vec<&str> = first.scenarios.iter().map(|x| x.name).collect();
+    let short = |n: &str| n.split('_').next().unwrap_or(n).to_string();
+    let header = |s: &mut String| {
+        let _ = writeln!(
+            s,
+            "| configuration | {} |",
+            names
+                .iter()
+                .map(|n| short(n))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+        let _ = writeln!(s, "|---|{}", "---|".repeat(names.len()));
+    };
+    let _ = writeln!(s, "### Frontier per scenario\n");
+    let _ = writeln!(
+        s,
+        "Every configuration of the table above, scenario by scenario ({}). Full numbers: \
+         [`benchmarks/sim_frontier.csv`](benchmarks/sim_frontier.csv); one panel per scenario: \
+         [`benchmarks/sim_frontier_scenarios.png`](benchmarks/sim_frontier_scenarios.png).\n",
+        names.join(", ")
+    );
+    let _ = writeln!(s, "Time per frame, **median / p99 ms**:\n");
+    header(s);
+    for v in results {
+        let cells: Vec<String> = v
+            .scenarios
+            .iter()
+            .map(|x| format!("{:.2} / {:.2}", x.median_ms, x.p99_ms))
+            .collect();
+        let _ = writeln!(s, "| {} | {} |", v.variant.label, cells.join(" | "));
+    }
+    let _ = writeln!(s, "\nLength error, **c_mean % / n_comp %**:\n");
+    header(s);
+    for v in results {
+        let cells: Vec<String> = v
+            .scenarios
+            .iter()
+            .map(|x| format!("{:.4} / {:.2}", x.c_mean, x.n_comp))
+            .collect();
+        let _ = writeln!(s, "| {} | {} |", v.variant.label, cells.join(" | "));
+    }
+    let _ = writeln!(s);
+}
+
+/// Every measured (configuration, scenario) pair as CSV.
+fn frontier_csv(
+    results: &[VariantResult],
+    scaling: &[VariantResult],
+    fine: &VariantResult,
+) -> String {
+    let mut s = String::from(
+        "configuration,group,geometry_layer,scenario,triangles,frames,awake_frames,median_ms,p99_ms,c_mean_pct,n_comp_pct,max_strain,newton_iters_per_substep,faults,singular\n",
+    );
+    let all = results
+        .iter()
+        .chain(scaling.iter())
+        .chain(std::iter::once(fine));
+    for v in all {
+        for x in &v.scenarios {
+            let _ = writeln!(
+                s,
+                "\"{}\",{},{},{},{:.0},{},{},{:.4},{:.4},{:.5},{:.3},{:.4},{:.2},{},{}",
+                v.variant.label.replace('"', "'"),
+                v.variant.group,
+                v.variant.geometry.enabled,
+                x.name,
+                x.tris,
+                x.frames,
+                x.awake,
+                x.median_ms,
+                x.p99_ms,
+                x.c_mean,
+                x.n_comp,
+                x.strain,
+                x.iters,
+                x.faults,
+                x.singular
+            );
+        }
+    }
+    s
+}
+
 /// Replaces (or appends) the sim-report section of `path`, leaving the rest untouched.
 fn write_section(path: &Path, body: &str) -> anyhow::Result<()> {
     let section = format!("{BEGIN}\n{body}{END}");
@@ -854,6 +995,89 @@ fn write_section(path: &Path, body: &str) -> anyhow::Result<()> {
         _ => bail!("{}: unbalanced sim-report markers", path.display()),
     };
     std::fs::write(path, new).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Colour of a configuration in the plots.
+fn colour(r: &VariantResult) -> plotters::style::RGBColor {
+    use plotters::style::colors::*;
+    match (r.variant.group, r.variant.solver.kind) {
+        ("fine", _) => BLACK,
+        ("default" | "geometry", _) => GREEN,
+        ("stiffness", _) => MAGENTA,
+        ("density", SolverKind::Newton) => CYAN,
+        ("density", SolverKind::Xpbd) => plotters::style::RGBColor(255, 165, 0),
+        (_, SolverKind::Newton) => BLUE,
+        (_, SolverKind::Xpbd) => RED,
+    }
+}
+
+/// Tick labels of a log axis: two significant digits, no float noise.
+fn tick(v: &f64) -> String {
+    if *v >= 10.0 {
+        format!("{v:.0}")
+    } else {
+        let digits = (1.0 - v.abs().max(1e-12).log10().floor()).max(0.0) as usize;
+        format!("{v:.digits$}")
+    }
+}
+
+/// One panel per scenario: each configuration's median time against its c_mean there (the
+/// fine fixed mesh where it was run).
+fn plot_scenarios(
+    png: &Path,
+    results: &[VariantResult],
+    fine: &VariantResult,
+) -> anyhow::Result<()> {
+    use plotters::prelude::*;
+    let Some(first) = results.first() else {
+        return Ok(());
+    };
+    let names: Vec<&str> = first.scenarios.iter().map(|x| x.name).collect();
+    let cols = 4;
+    let rows = names.len().div_ceil(cols);
+    let root = BitMapBackend::new(png, (1600, 360 * rows as u32 + 40)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(
+        "Run time against c_mean per scenario (green: geometry layer on; blue: Newton; red: XPBD; \
+         cyan/orange: other density; magenta: k_s scaling; black: fine fixed mesh)",
+        ("sans-serif", 18),
+    )?;
+    for (panel, name) in root.split_evenly((rows, cols)).iter().zip(&names) {
+        let pts: Vec<(f64, f64, RGBColor)> = results
+            .iter()
+            .chain(std::iter::once(fine))
+            .filter_map(|v| v.scenarios.iter().find(|x| x.name == *name).map(|x| (x, v)))
+            .map(|(x, v)| (x.median_ms.max(1e-3), x.c_mean.max(1e-4), colour(v)))
+            .collect();
+        let (xmin, xmax) = pts
+            .iter()
+            .fold((f64::MAX, 0.0f64), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+        let (ymin, ymax) = pts
+            .iter()
+            .fold((f64::MAX, 0.0f64), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+        let mut chart = ChartBuilder::on(panel)
+            .caption(*name, ("sans-serif", 16))
+            .margin(8)
+            .x_label_area_size(35)
+            .y_label_area_size(55)
+            .build_cartesian_2d(
+                (xmin * 0.7..xmax * 1.4).log_scale(),
+                (ymin * 0.7..ymax * 1.4).log_scale(),
+            )?;
+        chart
+            .configure_mesh()
+            .x_desc("median ms")
+            .y_desc("c_mean %")
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
+            .draw()?;
+        chart.draw_series(
+            pts.iter()
+                .map(|&(x, y, c)| Circle::new((x, y), 5, c.filled())),
+        )?;
+    }
+    root.present()?;
+    Ok(())
 }
 
 fn plot(
@@ -899,16 +1123,9 @@ fn plot(
         .configure_mesh()
         .x_desc("median ms per frame (200 frames/s)")
         .y_desc("c_mean (%)")
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .draw()?;
-    let colour = |r: &VariantResult| match (r.variant.group, r.variant.solver.kind) {
-        ("fine", _) => BLACK,
-        ("default" | "geometry", _) => GREEN,
-        ("stiffness", _) => MAGENTA,
-        ("density", SolverKind::Newton) => CYAN,
-        ("density", SolverKind::Xpbd) => RGBColor(255, 165, 0),
-        (_, SolverKind::Newton) => BLUE,
-        (_, SolverKind::Xpbd) => RED,
-    };
     for &(x, y, r) in &pts {
         let c = colour(r);
         chart.draw_series(std::iter::once(Circle::new((x, y), 6, c.filled())))?;
@@ -927,12 +1144,10 @@ fn plot(
         ("Newton, k_s scaling", MAGENTA),
         ("fine fixed mesh", BLACK),
     ] {
+        // An empty series: a legend entry without a point in (or clipped at the edge of) the
+        // plot.
         chart
-            .draw_series(std::iter::once(Circle::new(
-                (xmax * 10.0, ymax * 10.0),
-                5,
-                c.filled(),
-            )))?
+            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
             .label(label)
             .legend(move |(x, y)| Circle::new((x, y), 5, c.filled()));
     }
@@ -964,6 +1179,8 @@ fn plot(
     sc.configure_mesh()
         .x_desc("S_P triangles")
         .y_desc("median ms per frame (C1, S1)")
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .draw()?;
     sc.draw_series(
         scaling
