@@ -12,6 +12,7 @@
 //! - [`engine`]: parameter diffing, the simulation thread / lockstep stepping, the render call;
 //! - [`render`]: the audio render path (no nice-plug types);
 //! - [`state`]: the sheet saved with the project;
+//! - [`state_check`]: a saved state's version and parameters checked before they load;
 //! - [`db_loader`]: the embedded or user sound database, loaded off the audio thread;
 //! - [`editor`]: the egui window;
 //! - [`offline`]: the offline renderer behind `papier-render`.
@@ -24,6 +25,7 @@ pub mod offline;
 pub mod params;
 pub mod render;
 pub mod state;
+pub mod state_check;
 
 use std::num::NonZeroU32;
 use std::sync::Arc;
@@ -148,6 +150,12 @@ impl Plugin for Papier {
     type Editor = editor::EditorShell;
     type SysExMessage = ();
     type BackgroundTask = ();
+
+    fn filter_state(state: &mut PluginState) {
+        for problem in state_check::check(state) {
+            nice_warn!("{problem}");
+        }
+    }
 
     fn params(&self) -> Arc<dyn Params> {
         self.params.clone()

@@ -214,6 +214,14 @@ const GOLDEN: [(&str, u64); 2] = [
     ("a4_shaken", 0x1361_e561_2d4f_a7d8),
 ];
 
+/// Digest-sound §12 test 17. Breakage detected: non-deterministic rendering (two plays differ),
+/// a frame-log round trip that loses information, a DSP change (golden hash), and culling /
+/// merging / skipping that moves the spectrum away from the no-shortcut render (QF, LSD).
+///
+/// Deviation from the digest: its reference is "the offline f64 reference"; the render path
+/// has no f64 variant, so the reference here is the same f32 DSP with every shortcut off
+/// (`RenderOptions::reference()`: no culling, merging or skips, image path always on). What
+/// the tolerance bounds is therefore the shortcuts, not floating-point precision.
 #[test]
 fn test17_frame_logs_are_deterministic_and_close_to_the_reference() {
     let rate = 48_000.0;

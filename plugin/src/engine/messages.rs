@@ -7,6 +7,15 @@
 //! - worker → audio, discrete events: [`SimEvent`] through a second bounded queue (a triple buffer
 //!   would drop them).
 //!
+//! Which is which follows from what a lost value costs. A crumple event is a sound onset: a
+//! skipped snapshot must not swallow it, so it is queued. Contact and tearing are *states* the
+//! sound reads every frame — each friction source with its amplitude and slip speed, the tear's
+//! speed and tip ([`SoundFrame`]) — and every snapshot carries the whole current state, so
+//! a skipped snapshot loses nothing; their onsets and ends are where that state changes. So
+//! contact and tear *events* are carried as state in the snapshot, not as
+//! queue entries (said in the README); a future impact or tear-start sound that must not be
+//! missed gets its own [`SimEventKind`] variant.
+//!
 //! A full queue never blocks: the sender counts the loss.
 
 use sim_core::Command;

@@ -312,6 +312,21 @@ mod tests {
                 })
                 .collect(),
         );
+        // A valid header and chunk layout around random track bytes: a lenient parser would
+        // cut the track short and render silence.
+        for seed in 1..=8u32 {
+            let mut bytes = good[..14].to_vec();
+            bytes.extend_from_slice(b"MTrk");
+            bytes.extend_from_slice(&512u32.to_be_bytes());
+            let mut x = seed.wrapping_mul(2_654_435_761);
+            bytes.extend((0..512).map(|_| {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                x as u8
+            }));
+            cases.push(bytes);
+        }
         for c in cases {
             let e = MidiFile::parse(&c).unwrap_err();
             assert!(!e.contains('\n') && !e.is_empty(), "{e}");

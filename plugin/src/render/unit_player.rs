@@ -187,19 +187,43 @@ impl Voice {
         let first = self.pos as i64 - dmax - 2;
         let need = n + dmax as usize + 3;
         let scratch = &mut scratch[..need];
-        // Padded index = i + UNIT_PAD; valid 0 ≤ padded < pcm.len().
+        // Padded index = i + UNIT_PAD; valid 0 ≤ padded < pcm.len(). Only the scratch ranges
+        // the taps read are decoded: with a far reflector the span dmax is hundreds of samples,
+        // many times a short block, and the taps read just n + 3 samples each.
         let pad = UNIT_PAD as i64;
-        let lo = (-(first + pad)).clamp(0, need as i64) as usize;
-        let hi = (pcm.len() as i64 - (first + pad)).clamp(0, need as i64) as usize;
-        if lo < hi {
-            scratch[..lo].fill(0.0);
-            let src = &pcm[(first + pad + lo as i64) as usize..(first + pad + hi as i64) as usize];
-            for (s, &q) in scratch[lo..hi].iter_mut().zip(src) {
-                *s = f32::from(q) * u.scale;
+        let mut spans = [(0usize, 0usize); 2 * MAX_TAPS];
+        let mut num_spans = 0;
+        for e in 0..2 {
+            for k in 0..self.taps.num[e] {
+                let a = (dmax - i64::from(self.filters[e][k].delay_int)) as usize;
+                spans[num_spans] = (a, (a + n + 3).min(need));
+                num_spans += 1;
             }
-            scratch[hi..].fill(0.0);
-        } else {
-            scratch.fill(0.0);
+        }
+        let spans = &mut spans[..num_spans];
+        spans.sort_unstable();
+        let mut k = 0;
+        while k < spans.len() {
+            let (a, mut b) = spans[k];
+            k += 1;
+            while k < spans.len() && spans[k].0 <= b {
+                b = b.max(spans[k].1);
+                k += 1;
+            }
+            // Scratch [a, b) ↔ padded [first + pad + a, first + pad + b), zero outside the PCM.
+            let lo = (-(first + pad)).clamp(a as i64, b as i64) as usize;
+            let hi = (pcm.len() as i64 - (first + pad)).clamp(a as i64, b as i64) as usize;
+            if lo < hi {
+                scratch[a..lo].fill(0.0);
+                let src =
+                    &pcm[(first + pad + lo as i64) as usize..(first + pad + hi as i64) as usize];
+                for (s, &q) in scratch[lo..hi].iter_mut().zip(src) {
+                    *s = f32::from(q) * u.scale;
+                }
+                scratch[hi..b].fill(0.0);
+            } else {
+                scratch[a..b].fill(0.0);
+            }
         }
         let mut images = 0;
         for (e, out) in [&mut out_l[..n], &mut out_r[..n]].into_iter().enumerate() {
