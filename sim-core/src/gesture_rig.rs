@@ -71,6 +71,10 @@
 //! sheet passes through itself; the seeds capped their crumpling for the same reason (no
 //! self-collision, point handles only: T 1245, T 2014, T 2076) and digest-tearing §4.3 caps
 //! the squeeze at 0.6. k = 0.6 leaves the ring of hands at 40 % of the sheet's size at c = 1.
+//! Measured (`tests/self_contact.rs`): the cap bounds the squeeze but does **not** keep the
+//! sheet from passing through itself — the point hands buckle the sheet into folds that cross
+//! within the first 50–75 ms of a squeeze, up to ≈ 1 cm deep, on every size. Only sheet–sheet
+//! contact can prevent that; the test guards the measured bound meanwhile.
 //!
 //! **Obstacles.** Targets are moved out of the table, wall and floor (the whole held patch);
 //! a hand that holds paper inside an obstacle comes out at its travel speed, never by a jump,

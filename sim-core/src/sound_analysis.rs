@@ -624,6 +624,114 @@ mod tests {
         assert!(an.finder.resonator(0).is_constrained());
     }
 
+    /// A sheet rolled about the y axis with radius `r_m` (rulings along y; the arc length is
+    /// the pattern x) and an extra kink of `kink_rad` along the ruling x = `x_k` (a grid line).
+    fn rolled_with_kink(size_m: f64, n: usize, r_m: f64, x_k: f64, kink_rad: f64) -> PhysMesh {
+        let mut sp = grid_sheet(size_m, n);
+        // Centre line (x, z) at arc length s: the tangent turns by s/r, plus the kink after x_k.
+        let plain = |s: f64| (r_m * (s / r_m).sin(), r_m * (1.0 - (s / r_m).cos()));
+        let at = |s: f64| {
+            if s <= x_k + 1e-12 {
+                plain(s)
+            } else {
+                let (xk, zk) = plain(x_k);
+                let a = |s: f64| s / r_m + kink_rad;
+                (
+                    xk + r_m * (a(s).sin() - a(x_k).sin()),
+                    zk - r_m * (a(s).cos() - a(x_k).cos()),
+                )
+            }
+        };
+        for (x, p) in sp.pos.iter_mut().zip(&sp.pattern) {
+            let (cx, cz) = at(p.x);
+            *x = V3::new(cx, p.y, cz);
+        }
+        sp
+    }
+
+    /// digest-sound §12 test 14, curved case: in a curved region (every ruling line bent by
+    /// 0.1 rad, above θ_0), one internal ruling bent by more than a_max (0.1 + 0.45 rad) stops
+    /// the vibrations: an event on one side gets only the partial region up to that ruling
+    /// (its area, its free curved borders, still unconstrained), not the whole curved region;
+    /// with the ruling bent by 0.1 + 0.25 rad < a_max the same event gets the whole sheet.
+    /// Detects a ridge test that ignores curved regions, a partial region that is expanded
+    /// past the ridge, and a partial region measured as the whole one.
+    #[test]
+    fn ridge_inside_a_curved_region_gives_a_partial_resonator() {
+        let (size, n, r_m, x_k) = (0.2, 20, 0.1, 0.05);
+        let h = vec![false; (n + 1) * (n + 1)];
+        let c = vec![VertexContact::default(); (n + 1) * (n + 1)];
+        // The resonators of an event on the triangle at pattern (−0.05, 0), side A.
+        let resonators_from_a = |sp: &PhysMesh| {
+            let mut an = analysis_for(sp, size);
+            let input = AnalysisInput {
+                sp,
+                contacts: &c,
+                held: &h,
+                time_s: 0.0,
+            };
+            an.analyze(&input, &mut SoundFrame::default());
+            let t = (0..sp.num_triangles())
+                .find(|&t| {
+                    let m: V2 = sp.triangles[t]
+                        .iter()
+                        .map(|&v| sp.pattern[v as usize])
+                        .sum::<V2>()
+                        / 3.0;
+                    (m.x + 0.05).abs() < 0.01 && m.y.abs() < 0.01
+                })
+                .unwrap() as u32;
+            an.finder.begin();
+            an.finder.add_region(an.regions.region_of(t));
+            let k = an
+                .finder
+                .select(sp, &an.curvature, &an.regions, &input, &an.cfg, 4);
+            let area = an.regions.area_m2(an.regions.region_of(t));
+            let res: Vec<_> = (0..k).map(|r| an.finder.resonator(r)).collect();
+            (an.regions.num_regions(), area, res)
+        };
+
+        // Sanity of the construction: the kink line is the only ridge, the rest is curved.
+        let sp = rolled_with_kink(size, n, r_m, x_k, 0.45);
+        let mut curv = Curvature::with_capacity(sp.num_vertices(), sp.num_triangles());
+        curv.compute(&sp, 0.5);
+        let ridges = curv.edge_angle_rad.iter().filter(|a| a.abs() > 0.5).count();
+        assert_eq!(ridges, n, "one ridge line of {n} edges");
+
+        let (regions, area, res) = resonators_from_a(&sp);
+        assert_eq!(regions, 2);
+        assert_eq!(res.len(), 1, "only the partial region: {res:?}");
+        let r = res[0];
+        let part_area = (x_k + 0.5 * size) * size;
+        assert!((area - part_area).abs() < 1e-6, "{area} vs {part_area}");
+        let disk = (part_area / std::f64::consts::PI).sqrt() as f32;
+        assert!((r.radius_m - disk).abs() < 1e-4, "{} vs {disk}", r.radius_m);
+        // Still a curved (unconstrained) resonator; its free curved borders are the two bent
+        // sheet edges up to the ridge, 2 × 15 cm (the ridge itself is not a free border),
+        // within one 1 cm cell per edge: a border triangle whose only bent edge is the ridge
+        // counts as flat (measured: 28 cm). The whole sheet's 40 cm is far outside.
+        assert!(!r.is_constrained());
+        let lc_part = 2.0 * (x_k + 0.5 * size) * 100.0;
+        assert!(
+            (f64::from(r.lc_cm) - lc_part).abs() <= 2.0 + 1e-3,
+            "l_c {}",
+            r.lc_cm
+        );
+        assert!((r.lr_cm - 20.0).abs() < 1.0, "l_r {}", r.lr_cm);
+
+        // Below a_max the bent ruling does not stop the vibrations: the whole sheet.
+        let sp = rolled_with_kink(size, n, r_m, x_k, 0.25);
+        let (regions, area, res) = resonators_from_a(&sp);
+        assert_eq!(regions, 1);
+        assert_eq!(res.len(), 1);
+        assert!((area - size * size).abs() < 1e-6, "{area}");
+        assert!(
+            (f64::from(res[0].lc_cm) - 2.0 * size * 100.0).abs() < 2.0,
+            "l_c {}",
+            res[0].lc_cm
+        );
+    }
+
     /// Friction: a flat sheet sliding on the table is one constrained source at the mean slip
     /// speed; a sheet with a curled free half gives an unconstrained one; a still sheet none.
     #[test]
