@@ -129,9 +129,12 @@ pub struct Engine {
     store_generation: u64,
     meters: Arc<Meters>,
     host: Host,
+    /// Copies of the sound frames delivered in lockstep mode, while recording.
+    recorded: Option<Vec<SoundFrame>>,
 }
 
-fn mix_levels(p: &ParamValues, midi_volume: f32) -> MixLevels {
+/// The render path's mix for these parameters and a MIDI volume (linear gain).
+pub(crate) fn mix_levels(p: &ParamValues, midi_volume: f32) -> MixLevels {
     let vol_db = if midi_volume > 0.0 {
         (20.0 * midi_volume.log10()).max(MIN_VOLUME_DB)
     } else {
@@ -145,7 +148,8 @@ fn mix_levels(p: &ParamValues, midi_volume: f32) -> MixLevels {
     }
 }
 
-fn scene(p: &ParamValues) -> Scene {
+/// The render path's room and listener for these parameters.
+pub(crate) fn scene(p: &ParamValues) -> Scene {
     Scene {
         room: p.room,
         listener_az_deg: p.listener_az_deg,
@@ -222,6 +226,7 @@ impl Engine {
             store_generation,
             meters,
             host,
+            recorded: None,
         })
     }
 
@@ -254,6 +259,20 @@ impl Engine {
             Host::Lockstep(l) => Some(&l.sim),
             Host::Threaded(_) => None,
         }
+    }
+
+    /// Starts or stops keeping a copy of every sound frame the sheet delivers to the render path
+    /// in lockstep mode, in order (one per stepped frame, crumple events included), for
+    /// [`Self::drain_recorded_frames`]; `papier-render --write-frames` logs them. Off by default;
+    /// while on, a delivered frame may allocate (offline use; drain often). Threaded mode does
+    /// not record.
+    pub fn record_frames(&mut self, on: bool) {
+        self.recorded = on.then(Vec::new);
+    }
+
+    /// The frames recorded since the last call, oldest first (nothing when not recording).
+    pub fn drain_recorded_frames(&mut self) -> impl Iterator<Item = SoundFrame> + '_ {
+        self.recorded.iter_mut().flat_map(|v| v.drain(..))
     }
 
     /// The render path (for counters).
@@ -410,6 +429,9 @@ impl Engine {
                         }
                         worker::step_frame(&mut l.sim, &mut l.out, &self.meters);
                         Self::deliver(&mut self.renderer, &l.out.sound, &self.meters);
+                        if let Some(rec) = &mut self.recorded {
+                            nice_plug::util::permit_alloc(|| rec.push(l.out.sound));
+                        }
                         l.view.after_frame(&l.view_shared, &l.sim, &l.out.stats);
                         let awake = !l.out.stats.asleep;
                         l.frames_since_publish += 1;

@@ -10,9 +10,13 @@
 //!
 //! Inputs ([`cli`]): Standard MIDI Files ([`midi_file`]), TOML scripts and built-in scenes
 //! ([`sim_core::script`]), merged on one timeline ([`timeline`]). Output: a stereo WAV (32-bit
-//! float) via `hound`, and optionally the sheet as a sequence of Wavefront OBJ files.
+//! float) via `hound`, and optionally the sheet as a sequence of Wavefront OBJ files and the
+//! sound input as a frame log (`--write-frames`). A frame log can also be the input
+//! (`--frames`): it is then played through the render path alone, with no sheet
+//! ([`frame_replay`]).
 
 pub mod cli;
+pub mod frame_replay;
 pub mod midi_export;
 pub mod midi_file;
 pub mod timeline;
@@ -23,16 +27,19 @@ use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
+use sim_core::metrics::Metrics;
 use sim_core::script::Script;
 use sim_core::{MeshSnapshot, Sim};
 use sounddb::SoundDb;
 use thiserror::Error;
 
 use self::cli::{InputSpec, RenderOptions};
+use self::frame_replay::{FrameRecorder, RecordedLog};
 use self::midi_export::MidiExport;
 use self::midi_file::MidiFile;
 use self::timeline::{HostEvent, Timeline};
 use crate::engine::{Engine, FrameClock, Meters, ParamValues, SimMode};
+use crate::render::Renderer;
 use crate::state::SheetStore;
 
 /// Longest render accepted, seconds (one hour).
@@ -86,14 +93,43 @@ pub struct RenderReport {
     pub crumple_events: u64,
     /// Interior singular vertices at the end.
     pub num_singular: u32,
+    /// Accuracy of the sheet against its 2D pattern (sim_core::metrics), when a sheet was
+    /// simulated: the last frame's figures and the worst seen at the end of any sub-block.
+    pub sheet: Option<SheetAccuracy>,
     /// Peak sample, linear.
     pub peak: f32,
     /// RMS over both channels, linear.
     pub rms: f32,
     /// OBJ frames written.
     pub obj_frames: u64,
+    /// The frame log played (`--frames`): no sheet was simulated, `frames` counts its frames.
+    pub frame_log_in: Option<PathBuf>,
+    /// The frame log written (`--write-frames`).
+    pub frame_log_out: Option<RecordedLog>,
     /// Wall-clock time, seconds.
     pub wall_s: f64,
+}
+
+/// How isometric the simulated sheet stayed (see `sim_core::metrics::Metrics`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SheetAccuracy {
+    /// The last frame's metrics.
+    pub end: Metrics,
+    /// Largest mean edge compression seen, %.
+    pub max_c_mean_pct: f64,
+    /// Largest share of edges compressed > 1 % seen, %.
+    pub max_n_comp_pct: f64,
+    /// Largest principal Green strain seen.
+    pub max_strain: f64,
+}
+
+impl SheetAccuracy {
+    fn observe(&mut self, m: &Metrics) {
+        self.end = *m;
+        self.max_c_mean_pct = self.max_c_mean_pct.max(m.c_mean_pct);
+        self.max_n_comp_pct = self.max_n_comp_pct.max(m.n_comp_pct);
+        self.max_strain = self.max_strain.max(m.max_strain);
+    }
 }
 
 /// The built-in scene names.
@@ -179,6 +215,12 @@ fn read_inputs(
                 tl.add_script(&format!("scene {name}"), &s, sr, frames, &mut scratch)
                     .map_err(OfflineError::Input)?;
             }
+            InputSpec::Frames(p) => {
+                return Err(OfflineError::Usage(format!(
+                    "--frames {}: a frame log holds sounds, not gestures; it plays on its own",
+                    p.display()
+                )));
+            }
         }
     }
     tl.finish();
@@ -203,15 +245,137 @@ pub fn write_midi(inputs: &[InputSpec], out: &Path) -> Result<MidiExport, Offlin
     Ok(x)
 }
 
+/// The stereo WAV being written, with its running peak and energy.
+struct AudioOut {
+    path: PathBuf,
+    wav: hound::WavWriter<BufWriter<std::fs::File>>,
+    samples: u64,
+    sum_sq: f64,
+    peak: f32,
+}
+
+impl AudioOut {
+    /// Creates the file (and its folder).
+    fn create(path: &Path, sample_rate_hz: u32) -> Result<Self, OfflineError> {
+        if let Some(parent) = path.parent()
+            && !parent.as_os_str().is_empty()
+        {
+            std::fs::create_dir_all(parent).map_err(|e| {
+                OfflineError::Output(format!("cannot create {}: {e}", parent.display()))
+            })?;
+        }
+        let spec = hound::WavSpec {
+            channels: 2,
+            sample_rate: sample_rate_hz,
+            bits_per_sample: 32,
+            sample_format: hound::SampleFormat::Float,
+        };
+        let wav = hound::WavWriter::create(path, spec)
+            .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", path.display())))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            wav,
+            samples: 0,
+            sum_sq: 0.0,
+            peak: 0.0,
+        })
+    }
+
+    fn error(&self, e: hound::Error) -> OfflineError {
+        OfflineError::Output(format!("cannot write {}: {e}", self.path.display()))
+    }
+
+    /// Appends a block (both channels the same length).
+    fn write(&mut self, left: &[f32], right: &[f32]) -> Result<(), OfflineError> {
+        for (&l, &r) in left.iter().zip(right) {
+            self.sum_sq += f64::from(l) * f64::from(l) + f64::from(r) * f64::from(r);
+            self.peak = self.peak.max(l.abs()).max(r.abs());
+            if let Err(e) = self
+                .wav
+                .write_sample(l)
+                .and_then(|_| self.wav.write_sample(r))
+            {
+                return Err(self.error(e));
+            }
+        }
+        self.samples += left.len().min(right.len()) as u64;
+        Ok(())
+    }
+
+    /// Finalizes the file; returns (peak, RMS over both channels).
+    fn finish(self) -> Result<(f32, f32), OfflineError> {
+        let path = self.path;
+        self.wav
+            .finalize()
+            .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", path.display())))?;
+        let rms = if self.samples > 0 {
+            (self.sum_sq / (2 * self.samples) as f64).sqrt() as f32
+        } else {
+            0.0
+        };
+        Ok((self.peak, rms))
+    }
+}
+
+/// What the engine does to every block it renders, and the replay too: never let a NaN, an
+/// infinity or a subnormal out (the render path already guarantees finite, normal output).
+fn sanitize(left: &mut [f32], right: &mut [f32]) {
+    for s in left.iter_mut().chain(right.iter_mut()) {
+        if !(s.is_normal() || *s == 0.0) {
+            *s = 0.0;
+        }
+    }
+}
+
+fn progress_bar(total: u64, quiet: bool) -> indicatif::ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let pb = indicatif::ProgressBar::new(total);
+    pb.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} (eta {eta})",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    pb
+}
+
+/// The frame log among the inputs, if any (it must then be the only input).
+fn frame_log_input(inputs: &[InputSpec]) -> Result<Option<&Path>, OfflineError> {
+    let log = inputs.iter().find_map(|i| match i {
+        InputSpec::Frames(p) => Some(p.as_path()),
+        _ => None,
+    });
+    if log.is_some() && inputs.len() > 1 {
+        return Err(OfflineError::Usage(
+            "--frames plays a recorded log on its own: drop the other inputs".into(),
+        ));
+    }
+    Ok(log)
+}
+
 /// Renders according to the options.
 pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
     let started = Instant::now();
     let sr = f64::from(opts.sample_rate_hz);
 
+    // The inputs: a frame log (validated whole before anything is written), or the timeline.
+    let log_in = frame_log_input(&opts.inputs)?;
+    if log_in.is_some() && (opts.obj_dir.is_some() || opts.write_frames.is_some()) {
+        return Err(OfflineError::Usage(
+            "--frames has no sheet: drop --obj-dir and --write-frames".into(),
+        ));
+    }
+    let frames = FrameClock::new(sr, sim_core::sim::DEFAULT_FRAME_RATE_HZ);
+    let (tl, log_scan) = match log_in {
+        Some(p) => (Timeline::default(), Some(frame_replay::scan(p)?)),
+        None => (read_inputs(&opts.inputs, sr, frames)?, None),
+    };
+
     // Parameters: defaults, then the scripts' [set] tables, then --seed and --set.
     let mut params = ParamValues::default();
-    let frames = FrameClock::new(sr, sim_core::sim::DEFAULT_FRAME_RATE_HZ);
-    let tl = read_inputs(&opts.inputs, sr, frames)?;
     for (id, v) in &tl.initial {
         params
             .set(id, v)
@@ -225,12 +389,21 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             .set_from_arg(s)
             .map_err(|e| OfflineError::Usage(format!("--set {s}: {e}")))?;
     }
-    if !(tl.length_s.is_finite() && tl.length_s > 0.0 && tl.length_s <= MAX_RENDER_S) {
+    let length_s = log_scan.map_or(tl.length_s, |l| l.last_time_s);
+    if !(length_s.is_finite() && length_s > 0.0 && length_s <= MAX_RENDER_S) {
+        let what = match (log_in, log_scan) {
+            (Some(p), Some(l)) => format!(
+                "--frames {}: the log lasts {:.3} s (its last frame's time_s)",
+                p.display(),
+                l.last_time_s
+            ),
+            _ => format!("the inputs last {length_s:.3} s"),
+        };
         return Err(OfflineError::Input(format!(
-            "the inputs last {:.3} s; a render must last more than 0 and at most {MAX_RENDER_S} s",
-            tl.length_s
+            "{what}; a render must last more than 0 and at most {MAX_RENDER_S} s"
         )));
     }
+    let total = (length_s * sr).round() as u64;
 
     let db = load_db(opts.db.as_deref(), sr, opts.quiet)?;
     if let Some(dir) = &opts.obj_dir {
@@ -238,21 +411,45 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             OfflineError::Output(format!("cannot create --obj-dir {}: {e}", dir.display()))
         })?;
     }
-    if let Some(parent) = opts.out.parent()
-        && !parent.as_os_str().is_empty()
-    {
-        std::fs::create_dir_all(parent).map_err(|e| {
-            OfflineError::Output(format!("cannot create {}: {e}", parent.display()))
-        })?;
-    }
-    let spec = hound::WavSpec {
-        channels: 2,
-        sample_rate: opts.sample_rate_hz,
-        bits_per_sample: 32,
-        sample_format: hound::SampleFormat::Float,
+    let mut recorder = match &opts.write_frames {
+        Some(p) => Some(FrameRecorder::create(
+            p,
+            crate::sim_config(&params).frame_rate_hz,
+        )?),
+        None => None,
     };
-    let mut wav = hound::WavWriter::create(&opts.out, spec)
-        .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
+    let mut audio = AudioOut::create(&opts.out, opts.sample_rate_hz)?;
+    let progress = progress_bar(total, opts.quiet);
+
+    if let (Some(path), Some(scan)) = (log_in, log_scan) {
+        // Replay: the render path as the engine sets it up and feeds it, without a sheet.
+        let mut renderer = Renderer::new(sr, db, params.seed);
+        renderer.set_mix(crate::engine::mix_levels(&params, 1.0));
+        renderer.set_scene(crate::engine::scene(&params));
+        let played = frame_replay::play(
+            path,
+            &mut renderer,
+            total,
+            opts.block,
+            &mut audio,
+            &progress,
+        )?;
+        let (peak, rms) = audio.finish()?;
+        progress.finish_and_clear();
+        debug_assert!(played.frames <= scan.frames);
+        return Ok(RenderReport {
+            out: opts.out.clone(),
+            length_s: total as f64 / sr,
+            sample_rate_hz: opts.sample_rate_hz,
+            frames: played.frames,
+            crumple_events: played.crumple_events,
+            peak,
+            rms,
+            frame_log_in: Some(path.to_path_buf()),
+            wall_s: started.elapsed().as_secs_f64(),
+            ..RenderReport::default()
+        });
+    }
 
     let meters = Arc::new(Meters::default());
     let mut sim = Sim::new(crate::sim_config(&params));
@@ -269,21 +466,11 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         Arc::new(crate::engine::ViewShared::default()),
     )
     .map_err(|e| OfflineError::Engine(e.to_string()))?;
-
-    let total = (tl.length_s * sr).round() as u64;
-    let progress = if opts.quiet || !std::io::stderr().is_terminal() {
-        indicatif::ProgressBar::hidden()
-    } else {
-        let pb = indicatif::ProgressBar::new(total);
-        pb.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} (eta {eta})",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        pb
-    };
+    // The render path's seed is fixed when the engine is built (a later seed change reseeds the
+    // sheet only); the log header records it with the other sound settings at t = 0.
+    let sound_seed = params.seed;
+    let not_in_log = frame_replay::sound_changes_after_start(&tl);
+    engine.record_frames(recorder.is_some());
 
     let mut left = vec![0.0f32; opts.block];
     let mut right = vec![0.0f32; opts.block];
@@ -296,9 +483,8 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
     let mut next_obj = 0u64;
     let mut next_event = 0usize;
     let mut pos = 0u64;
-    let mut sum_sq = 0.0f64;
-    let mut peak = 0.0f32;
     let events = &tl.events;
+    let mut accuracy = SheetAccuracy::default();
 
     while pos < total {
         let block_end = (pos + opts.block as u64).min(total);
@@ -321,6 +507,18 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             }
             if changed {
                 engine.begin_block(&params);
+            }
+            if sub == 0
+                && let Some(rec) = &mut recorder
+            {
+                let mut start = engine.last_params();
+                start.seed = sound_seed;
+                rec.header(
+                    &opts.inputs,
+                    opts.sample_rate_hz,
+                    &start,
+                    not_in_log.clone(),
+                )?;
             }
             // The sub-block ends at the next parameter change or OBJ frame.
             let mut sub_end = block_end;
@@ -356,19 +554,18 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             let n = (sub_end - sub) as usize;
             let off = (sub - pos) as usize;
             engine.render(&mut left[off..off + n], &mut right[off..off + n]);
+            if let Some(sim) = engine.lockstep_sim() {
+                accuracy.observe(sim.metrics());
+            }
+            if let Some(rec) = &mut recorder {
+                for f in engine.drain_recorded_frames() {
+                    rec.record(&f)?;
+                }
+            }
             sub = sub_end;
         }
         let n = (block_end - pos) as usize;
-        for i in 0..n {
-            let (l, r) = (left[i], right[i]);
-            sum_sq += f64::from(l) * f64::from(l) + f64::from(r) * f64::from(r);
-            peak = peak.max(l.abs()).max(r.abs());
-            wav.write_sample(l)
-                .and_then(|_| wav.write_sample(r))
-                .map_err(|e| {
-                    OfflineError::Output(format!("cannot write {}: {e}", opts.out.display()))
-                })?;
-        }
+        audio.write(&left[..n], &right[..n])?;
         pos = block_end;
         progress.set_position(pos);
     }
@@ -380,8 +577,11 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             next_obj += 1;
         }
     }
-    wav.finalize()
-        .map_err(|e| OfflineError::Output(format!("cannot write {}: {e}", opts.out.display())))?;
+    let (peak, rms) = audio.finish()?;
+    let frame_log_out = match recorder {
+        Some(rec) => Some(rec.finish()?),
+        None => None,
+    };
     progress.finish_and_clear();
 
     let frames_stepped = meters.frames_stepped.load(Ordering::Relaxed);
@@ -400,13 +600,12 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         max_step_ms: meters.max_step_ns.load(Ordering::Relaxed) as f64 * 1e-6,
         crumple_events: meters.crumple_events.load(Ordering::Relaxed),
         num_singular,
+        sheet: Some(accuracy),
         peak,
-        rms: if total > 0 {
-            (sum_sq / (2 * total) as f64).sqrt() as f32
-        } else {
-            0.0
-        },
+        rms,
         obj_frames: if opts.obj_dir.is_some() { next_obj } else { 0 },
+        frame_log_in: None,
+        frame_log_out,
         wall_s: started.elapsed().as_secs_f64(),
     })
 }
@@ -428,19 +627,40 @@ impl std::fmt::Display for RenderReport {
             self.sample_rate_hz,
             self.out.display()
         )?;
-        writeln!(
-            f,
-            "  sim:   {} frames ({:.0} % asleep), step mean {:.3} ms, max {:.3} ms, {} singular points",
-            self.frames,
-            if self.frames > 0 {
-                100.0 * self.frames_asleep as f64 / self.frames as f64
-            } else {
-                0.0
-            },
-            self.mean_step_ms,
-            self.max_step_ms,
-            self.num_singular
-        )?;
+        match &self.frame_log_in {
+            Some(log) => writeln!(
+                f,
+                "  log:   {} frames played from {} (no sheet simulated)",
+                self.frames,
+                log.display()
+            )?,
+            None => writeln!(
+                f,
+                "  sim:   {} frames ({:.0} % asleep), step mean {:.3} ms, max {:.3} ms, {} singular points",
+                self.frames,
+                if self.frames > 0 {
+                    100.0 * self.frames_asleep as f64 / self.frames as f64
+                } else {
+                    0.0
+                },
+                self.mean_step_ms,
+                self.max_step_ms,
+                self.num_singular
+            )?,
+        }
+        if let Some(a) = &self.sheet {
+            writeln!(
+                f,
+                "  sheet: c_mean {:.3} %, n_comp {:.2} %, max strain {:.4} at the end \
+                 (worst: c_mean {:.3} %, n_comp {:.2} %, strain {:.4})",
+                a.end.c_mean_pct,
+                a.end.n_comp_pct,
+                a.end.max_strain,
+                a.max_c_mean_pct,
+                a.max_n_comp_pct,
+                a.max_strain
+            )?;
+        }
         writeln!(
             f,
             "  audio: peak {}, RMS {}, {} crumple events",
@@ -450,6 +670,22 @@ impl std::fmt::Display for RenderReport {
         )?;
         if self.obj_frames > 0 {
             writeln!(f, "  obj:   {} frames", self.obj_frames)?;
+        }
+        if let Some(log) = &self.frame_log_out {
+            writeln!(
+                f,
+                "  log:   {} sound frames -> {}\n  replay it: {}",
+                log.frames,
+                log.path.display(),
+                log.replay_command()
+            )?;
+            if !log.not_in_log.is_empty() {
+                writeln!(
+                    f,
+                    "  not in the log (the inputs change them after t = 0): {}",
+                    log.not_in_log.join(", ")
+                )?;
+            }
         }
         write!(
             f,

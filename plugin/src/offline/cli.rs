@@ -3,11 +3,19 @@
 //! ```text
 //! papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
 //!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
-//!               [--obj-dir DIR] [--obj-fps N] [--db DIR] [--quiet]
+//!               [--obj-dir DIR] [--obj-fps N] [--db DIR] [--write-frames FILE.jsonl] [--quiet]
+//! papier-render --frames FILE.jsonl --out FILE.wav
+//!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
 //! ```
 //! Every input plays on one shared timeline from t = 0 (like tracks of a DAW); the render
 //! lasts as long as the longest input. Values given with `--seed` and `--set` are applied at
 //! t = 0 after the scripts' `[set]` tables, so the command line wins.
+//!
+//! `--frames` plays a recorded log of sound frames ([`crate::render::frame_log`]) through the
+//! render path without simulating a sheet ([`super::frame_replay`]); it is an input of its own
+//! and cannot be combined with other inputs, `--obj-dir`, `--write-frames` or `--write-midi`
+//! (a log holds sounds, not gestures or a sheet). `--write-frames` records the sound frames of a
+//! simulated render as such a log.
 
 use std::path::PathBuf;
 
@@ -27,6 +35,8 @@ pub enum InputSpec {
     Script(PathBuf),
     /// A scenario of the built-in library.
     Scene(String),
+    /// A recorded log of sound frames (JSON lines), played without simulating; on its own.
+    Frames(PathBuf),
 }
 
 /// Parsed options.
@@ -50,13 +60,16 @@ pub struct RenderOptions {
     pub obj_fps: f64,
     /// User sound database directory.
     pub db: Option<PathBuf>,
+    /// Where to record the sound frames of the render (JSON lines), if anywhere.
+    pub write_frames: Option<PathBuf>,
     /// Print only errors.
     pub quiet: bool,
 }
 
 impl RenderOptions {
     /// Options with `papier-render`'s defaults (48 kHz, blocks of 512, no seed or settings, no
-    /// OBJ, the embedded database, progress shown) for these inputs and output.
+    /// OBJ, the embedded database, no frame log written, progress shown) for these inputs and
+    /// output.
     pub fn new(inputs: Vec<InputSpec>, out: PathBuf) -> Self {
         Self {
             inputs,
@@ -68,6 +81,7 @@ impl RenderOptions {
             obj_dir: None,
             obj_fps: 30.0,
             db: None,
+            write_frames: None,
             quiet: false,
         }
     }
@@ -97,12 +111,18 @@ pub enum Cli {
 pub const USAGE: &str =
     "usage: papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
                      [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
-                     [--obj-dir DIR] [--obj-fps N] [--db DIR] [--quiet]
+                     [--obj-dir DIR] [--obj-fps N] [--db DIR] [--write-frames FILE.jsonl] [--quiet]
+       papier-render --frames FILE.jsonl --out FILE.wav
+                     [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
        papier-render --list-scenes
 Renders Papier offline (the plugin's engine, stepped in lockstep with the audio) to a WAV file.
   --midi FILE        play a Standard MIDI File (README: MIDI map)
   --script FILE      play a TOML automation script (sim-core/src/script.rs)
   --scene NAME       play a built-in scenario (see --list-scenes)
+  --frames FILE      play a recorded log of sound frames (JSON lines, one frame per line,
+                     plugin/src/render/frame_log.rs) without simulating the sheet: each frame
+                     sounds from its time_s on, the render ends at the last frame's time_s;
+                     only the sound settings apply (seed, room, listener, mix); on its own
   --out FILE         output WAV (stereo, 32-bit float)
   --sample-rate HZ   8000-192000 (default 48000)
   --block N          host block size to emulate, 1-16384 (default 512)
@@ -111,6 +131,8 @@ Renders Papier offline (the plugin's engine, stepped in lockstep with the audio)
   --obj-dir DIR      write the sheet as frame_00000.obj, ... (v: metres, vt: pattern metres)
   --obj-fps N        OBJ frames per second (default 30)
   --db DIR           use a user sound database instead of the embedded one
+  --write-frames FILE  also record the render's sound frames as a log for --frames (its
+                     header comment gives the --set options that replay it)
   --write-midi FILE  write the inputs as a MIDI performance (README map: grabs as notes,
                      gestures as CCs) instead of rendering; prints the --set options it needs
   --quiet            print only errors";
@@ -127,6 +149,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
     let mut obj_dir = defaults.obj_dir;
     let mut obj_fps = defaults.obj_fps;
     let mut db = defaults.db;
+    let mut write_frames = defaults.write_frames;
     let mut quiet = defaults.quiet;
     let mut write_midi = None;
 
@@ -152,6 +175,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
             "--midi" => inputs.push(InputSpec::Midi(value("--midi")?.into())),
             "--script" => inputs.push(InputSpec::Script(value("--script")?.into())),
             "--scene" => inputs.push(InputSpec::Scene(value("--scene")?)),
+            "--frames" => inputs.push(InputSpec::Frames(value("--frames")?.into())),
             "--out" => out = Some(PathBuf::from(value("--out")?)),
             "--sample-rate" => {
                 let v = value("--sample-rate")?;
@@ -196,15 +220,37 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
             }
             "--db" => db = Some(PathBuf::from(value("--db")?)),
             "--write-midi" => write_midi = Some(PathBuf::from(value("--write-midi")?)),
+            "--write-frames" => write_frames = Some(PathBuf::from(value("--write-frames")?)),
             "--quiet" | "-q" => quiet = true,
             other => return Err(format!("unknown option {other:?} (see --help)")),
         }
         i += 1;
     }
     if inputs.is_empty() {
-        return Err("no input: give at least one --midi, --script or --scene".into());
+        return Err("no input: give at least one --midi, --script or --scene, or --frames".into());
+    }
+    if inputs.iter().any(|i| matches!(i, InputSpec::Frames(_))) {
+        if inputs.len() > 1 {
+            return Err(
+                "--frames plays a recorded log on its own: drop the other inputs \
+                        (--midi, --script, --scene, another --frames)"
+                    .into(),
+            );
+        }
+        if obj_dir.is_some() {
+            return Err("--obj-dir writes the simulated sheet; a --frames render has none".into());
+        }
+        if write_frames.is_some() {
+            return Err("--write-frames records a simulated render; --frames replays one".into());
+        }
+        if write_midi.is_some() {
+            return Err("--write-midi exports gestures; a frame log holds only sounds".into());
+        }
     }
     if let Some(path) = write_midi {
+        if write_frames.is_some() {
+            return Err("--write-midi renders nothing: drop --write-frames".into());
+        }
         if out.is_some() {
             return Err("--write-midi writes a MIDI file and renders nothing: drop --out".into());
         }
@@ -225,6 +271,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
         obj_dir,
         obj_fps,
         db,
+        write_frames,
         quiet,
     }))
 }
@@ -241,7 +288,8 @@ mod tests {
     fn parses_the_documented_interface() {
         let Cli::Render(o) = parse(&args(
             "--midi a.mid --scene s1 --script b.toml --out x.wav --sample-rate 96000 --block 64 \
-             --seed 7 --set size=a6 --set=table=off --obj-dir objs --obj-fps 24 --db mydb --quiet",
+             --seed 7 --set size=a6 --set=table=off --obj-dir objs --obj-fps 24 --db mydb \
+             --write-frames f.jsonl --quiet",
         ))
         .unwrap() else {
             panic!()
@@ -252,7 +300,16 @@ mod tests {
         assert_eq!(o.seed, Some(7));
         assert_eq!(o.sets, vec!["size=a6", "table=off"]);
         assert_eq!(o.obj_fps, 24.0);
+        assert_eq!(o.write_frames, Some(PathBuf::from("f.jsonl")));
         assert!(o.quiet);
+        let Cli::Render(o) = parse(&args(
+            "--frames log.jsonl --out x.wav --seed 3 --set gain_db=-3",
+        ))
+        .unwrap() else {
+            panic!()
+        };
+        assert_eq!(o.inputs, vec![InputSpec::Frames("log.jsonl".into())]);
+        assert_eq!((o.seed, o.write_frames), (Some(3), None));
         let Cli::WriteMidi { inputs, out, quiet } =
             parse(&args("--scene s1 --write-midi s1.mid")).unwrap()
         else {
@@ -262,6 +319,54 @@ mod tests {
             (inputs.len(), out, quiet),
             (1, PathBuf::from("s1.mid"), false)
         );
+    }
+
+    /// `--frames` takes the sound options (rate, block, seed, settings, database, quiet) and
+    /// both spellings (`--frames F`, `--frames=F`); `--write-frames` goes with every simulated
+    /// input and with `=`. Detects an option a frame replay needs being rejected or dropped, and
+    /// `--write-frames` recorded under the wrong field.
+    #[test]
+    fn frame_log_options_parse() {
+        let Cli::Render(o) = parse(&args(
+            "--frames=log.jsonl --out x.wav --sample-rate 44100 --block 37 --seed 65535 \
+             --set wall=on --set wall_dist_cm=12 --db mydb -q",
+        ))
+        .unwrap() else {
+            panic!()
+        };
+        assert_eq!(o.inputs, vec![InputSpec::Frames("log.jsonl".into())]);
+        assert_eq!((o.sample_rate_hz, o.block), (44_100, 37));
+        assert_eq!(o.seed, Some(65_535));
+        assert_eq!(o.sets, vec!["wall=on", "wall_dist_cm=12"]);
+        assert_eq!(o.db, Some(PathBuf::from("mydb")));
+        assert_eq!((o.obj_dir, o.write_frames, o.quiet), (None, None, true));
+        for input in ["--midi a.mid", "--script a.toml", "--scene s1"] {
+            let Cli::Render(o) = parse(&args(&format!(
+                "{input} --out x.wav --write-frames=logs/f.jsonl --obj-dir objs"
+            )))
+            .unwrap() else {
+                panic!("{input}")
+            };
+            assert_eq!(
+                o.write_frames,
+                Some(PathBuf::from("logs/f.jsonl")),
+                "{input}"
+            );
+            assert_eq!(o.obj_dir, Some(PathBuf::from("objs")), "{input}");
+        }
+        // The defaults leave both off.
+        let Cli::Render(o) = parse(&args("--scene s1 --out x.wav")).unwrap() else {
+            panic!()
+        };
+        assert_eq!(o.write_frames, None);
+        assert!(!o.inputs.iter().any(|i| matches!(i, InputSpec::Frames(_))));
+        // Errors name what to drop.
+        let e = parse(&args("--frames a.jsonl --scene s1 --out x.wav")).unwrap_err();
+        assert!(e.contains("--frames") && e.contains("on its own"), "{e}");
+        let e = parse(&args("--frames a.jsonl --out x.wav --obj-dir o")).unwrap_err();
+        assert!(e.contains("--obj-dir"), "{e}");
+        let e = parse(&args("--scene s1 --out x.wav --write-frames")).unwrap_err();
+        assert!(e.contains("--write-frames needs a value"), "{e}");
     }
 
     #[test]
@@ -279,6 +384,14 @@ mod tests {
             "--midi a.mid --out x.wav --frobnicate",
             "--midi",
             "--scene s1 --write-midi a.mid --out x.wav",
+            "--frames",
+            "--frames a.jsonl --scene s1 --out x.wav",
+            "--midi a.mid --frames a.jsonl --out x.wav",
+            "--frames a.jsonl --frames b.jsonl --out x.wav",
+            "--frames a.jsonl --out x.wav --obj-dir objs",
+            "--frames a.jsonl --out x.wav --write-frames b.jsonl",
+            "--frames a.jsonl --write-midi a.mid",
+            "--scene s1 --write-midi a.mid --write-frames b.jsonl",
         ] {
             let e = parse(&args(a)).unwrap_err();
             assert!(!e.contains('\n'), "{a}: {e}");
