@@ -669,9 +669,85 @@ mod tests {
         }
     }
 
+    /// Power of a database spectrum (2048 bins over 0–22.05 kHz) within `±half_width_hz` of
+    /// `f_hz`.
+    fn band_power(s: &[f32], f_hz: f64, half_width_hz: f64) -> f64 {
+        let df = 44_100.0 / (2.0 * s.len() as f64);
+        s.iter()
+            .enumerate()
+            .filter(|(k, _)| (*k as f64 * df - f_hz).abs() <= half_width_hz)
+            .map(|(_, v)| f64::from(*v).powi(2))
+            .sum()
+    }
+
+    /// The friction spectrum is the power average over the 200 ms in the middle of the slide
+    /// (T 1909), at the recording's level. A 2 s slide (between silences) whose first 100 ms of
+    /// the middle 200 ms is a 1 kHz tone, whose next 100 ms is a 2.5 kHz tone and whose rest is a
+    /// 6 kHz tone must give a spectrum peaking at 1 or 2.5 kHz with those two tones equally
+    /// strong and almost nothing at 6 kHz. Detects a window not centred on the slide (one tone
+    /// would dominate), longer than ~200 ms or over the whole slide (6 kHz would dominate), at
+    /// the start or end of the file; a noise slide checks the level and that a slide shorter
+    /// than 200 ms is refused.
     #[test]
     fn friction_window_in_the_middle() {
         let rate = 48_000.0;
+        // A tone slide: 0.5 s of silence, 2 s of tones, 0.5 s of silence.
+        let (f_a, f_b, f_edge) = (1_000.0, 2_500.0, 6_000.0);
+        let (start, len) = (24_000usize, 96_000usize);
+        let centre = start + len / 2;
+        let tenth = 4_800usize; // 100 ms
+        let mut tones = vec![0.0f32; 3 * 48_000];
+        for (i, v) in tones.iter_mut().enumerate().skip(start).take(len) {
+            let f = if (centre - tenth..centre).contains(&i) {
+                f_a
+            } else if (centre..centre + tenth).contains(&i) {
+                f_b
+            } else {
+                f_edge
+            };
+            *v = 0.1 * (2.0 * std::f64::consts::PI * f * i as f64 / rate).sin() as f32;
+        }
+        let s = friction_spectrum(&tones, rate, 2048, 44_100.0).unwrap();
+        let total: f64 = s.iter().map(|v| f64::from(*v).powi(2)).sum();
+        let (p_a, p_b, p_edge) = (
+            band_power(&s, f_a, 100.0),
+            band_power(&s, f_b, 100.0),
+            band_power(&s, f_edge, 100.0),
+        );
+        let df = 44_100.0 / 4096.0;
+        let peak_hz = s
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .unwrap()
+            .0 as f64
+            * df;
+        eprintln!(
+            "tone slide: peak {peak_hz:.0} Hz; power at 1 kHz {:.3}, 2.5 kHz {:.3}, 6 kHz {:.4} \
+             of {total:.2e}",
+            p_a / total,
+            p_b / total,
+            p_edge / total
+        );
+        assert!(
+            (peak_hz - f_a).abs() < 30.0 || (peak_hz - f_b).abs() < 30.0,
+            "peak at {peak_hz} Hz"
+        );
+        assert!(
+            p_edge < 0.02 * total,
+            "the edges of the slide leak in: {:.3} of the power at 6 kHz",
+            p_edge / total
+        );
+        // The Hann frames that fit the window leave its last 8 ms out, so the first half weighs
+        // ~1.15 × the second; a window 10 ms off centre moves the ratio out of [0.7, 1.4].
+        assert!(
+            p_a + p_b > 0.9 * total && p_a < 1.4 * p_b && p_b < 1.4 * p_a,
+            "the window is not centred on the middle: 1 kHz {p_a:.3e}, 2.5 kHz {p_b:.3e}"
+        );
+        // A sine of amplitude 0.1 has power 0.005.
+        assert!((total / 0.005 - 1.0).abs() < 0.15, "{total}");
+
+        // A noise slide: the level.
         let mut seed = 9;
         let mut x = vec![0.0f32; 3 * 48_000];
         let slide = noise(2 * 48_000, &mut seed);

@@ -592,3 +592,245 @@ fn importing_recordings_builds_a_loadable_database() {
     let err = import_dir(&empty, &ImportOptions::default()).unwrap_err();
     assert!(err.to_string().contains("no usable recording"));
 }
+
+/// Total size of the files under `dir`, bytes.
+fn dir_bytes(dir: &Path) -> u64 {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            if e.file_type().unwrap().is_dir() {
+                dir_bytes(&e.path())
+            } else {
+                e.metadata().unwrap().len()
+            }
+        })
+        .sum()
+}
+
+/// What `cargo xtask sounddb --material M --out DIR` does (xtask/src/sounddb_cmd.rs: generate
+/// with the material's seed, write the folder, load it back through the validating loader), for
+/// every material: the folder loads with no warning at all; every (l_r, l_c/2) cell of the grid
+/// {2.5, …, 30} cm holds the 3 flap variants and the 1 friction spectrum the generator promises
+/// (sounddb::generate) and the (0, 0) cell its 6 clacs and 1 spectrum, nothing else; every unit
+/// and spectrum is non-empty and finite; the folder is at most 12 MiB on disk. Detects cells or
+/// variants the generator drops, files the writer names differently from the manifest (warnings),
+/// and a database that outgrows its budget.
+#[test]
+fn generated_database_folders_load_without_warnings_with_every_cell() {
+    for m in Material::ALL {
+        let dir = temp_dir(&format!("generated-{}", m.name()));
+        sounddb::generate::generate_with_seed(m, m.seed())
+            .write_dir(&dir)
+            .unwrap();
+        let (db, warnings) = Database::load(&dir).unwrap();
+        assert!(
+            warnings.is_empty(),
+            "{}: {}",
+            m.name(),
+            warnings_text(&warnings)
+        );
+        let units = |c: &Cell| db.units.iter().filter(|u| u.cell.same_as(c)).count();
+        let spectra = |c: &Cell| db.spectra.iter().filter(|s| s.cell.same_as(c)).count();
+        for s in sounddb::GRID_CM {
+            for c in sounddb::GRID_CM {
+                let cell = Cell::Free {
+                    straight_cm: s,
+                    curved_cm: c,
+                };
+                assert_eq!(units(&cell), 3, "{}: flaps of {}", m.name(), cell.label());
+                assert_eq!(
+                    spectra(&cell),
+                    1,
+                    "{}: spectra of {}",
+                    m.name(),
+                    cell.label()
+                );
+            }
+        }
+        assert_eq!(units(&Cell::Constrained), 6, "{}: clacs", m.name());
+        assert_eq!(spectra(&Cell::Constrained), 1, "{}", m.name());
+        assert_eq!(
+            (db.units.len(), db.spectra.len()),
+            (81 * 3 + 6, 81 + 1),
+            "{}: no cell off the grid",
+            m.name()
+        );
+        for u in &db.units {
+            assert!(
+                !u.samples.is_empty() && u.samples.iter().all(|v| v.is_finite()),
+                "{}: unit {}",
+                m.name(),
+                u.file
+            );
+            assert!(
+                u.samples.iter().any(|v| *v != 0.0),
+                "{}: silent {}",
+                m.name(),
+                u.file
+            );
+        }
+        for s in &db.spectra {
+            assert_eq!(s.magnitudes.len(), sounddb::SPECTRUM_BINS);
+            assert!(
+                s.magnitudes.iter().all(|v| v.is_finite() && *v >= 0.0)
+                    && s.magnitudes.iter().any(|v| *v > 0.0),
+                "{}: spectrum {}",
+                m.name(),
+                s.file
+            );
+        }
+        let bytes = dir_bytes(&dir);
+        eprintln!(
+            "{}: {:.2} MiB on disk",
+            m.name(),
+            bytes as f64 / 1_048_576.0
+        );
+        assert!(bytes <= 12 * 1024 * 1024, "{}: {bytes} bytes", m.name());
+    }
+}
+
+/// A low tone: `f_hz[0]` and, 12 dB down, `f_hz[1]` (two equal partials would beat and the
+/// importer would hear an onset at every beat).
+fn low_tone(f_hz: [f64; 2], t_s: f64) -> f64 {
+    (2.0 * std::f64::consts::PI * f_hz[0] * t_s).sin()
+        + 0.25 * (2.0 * std::f64::consts::PI * f_hz[1] * t_s).sin()
+}
+
+/// Decaying [`low_tone`] bursts (time constant `tau_s`) of `burst_s` each, every `period_s`,
+/// over a −90 dBFS noise floor: "recordings" of flips or clacks.
+fn tone_bursts(
+    rate: f64,
+    partials_hz: [f64; 2],
+    count: usize,
+    burst_s: f64,
+    period_s: f64,
+    tau_s: f64,
+    g: &mut Lcg,
+) -> Vec<f32> {
+    let n = ((0.3 + count as f64 * period_s) * rate) as usize;
+    let mut x: Vec<f32> = (0..n).map(|_| (g.next() - 0.5) * 6e-5).collect();
+    for b in 0..count {
+        let start = ((0.3 + b as f64 * period_s) * rate) as usize;
+        for i in 0..(burst_s * rate) as usize {
+            let t = i as f64 / rate;
+            x[start + i] += (0.3 * (-t / tau_s).exp() * low_tone(partials_hz, t)) as f32;
+        }
+    }
+    x
+}
+
+/// Share of the power of `x` below `hz`, and the spectral centroid, Hz (Welch, 4096 points).
+fn low_share_and_centroid(x: &[f32], rate: f64, hz: f64) -> (f64, f64) {
+    let psd = sounddb::analysis::welch_psd(x, rate, 4096);
+    let df = rate / 4096.0;
+    let total: f64 = psd.iter().sum();
+    let low: f64 = psd
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| (*k as f64) * df < hz)
+        .map(|(_, p)| p)
+        .sum();
+    (low / total, centroid_hz(&psd, df))
+}
+
+/// A database imported from recordings the test writes (low tones only: 300–600 Hz flaps,
+/// clacks and slides, where the synthesized printer paper rings in the kHz) and passed to the
+/// `papier-render` binary with `--db` plays a seed scene finitely and audibly, and clearly not
+/// with the embedded database: the render with `--db` has ≥ 80 % of its power below 1 kHz and
+/// a centroid under 1 kHz, the same scene with the embedded database has less than half of its
+/// power below 1 kHz and a centroid at least twice as high. Detects `--db` being ignored, a
+/// database that loads but is not played (silence), and an import that loses the recordings'
+/// spectra.
+#[test]
+fn papier_render_plays_an_imported_database() {
+    let rec = temp_dir("low-recordings");
+    let rate = 44_100.0;
+    let mut g = Lcg(17);
+    for (name, partials) in [
+        ("flap_s10_c5.wav", [300.0, 450.0]),
+        ("flap_s20_c20.wav", [320.0, 480.0]),
+        ("flap_s5_c30.wav", [350.0, 525.0]),
+        ("flap_s30_c2p5.wav", [330.0, 495.0]),
+    ] {
+        let x = tone_bursts(rate, partials, 3, 0.35, 0.6, 0.08, &mut g);
+        write_wav(&rec.join(name), rate as u32, &x);
+    }
+    let clacs = tone_bursts(rate, [400.0, 600.0], 6, 0.05, 0.15, 0.01, &mut g);
+    write_wav(&rec.join("clac_low.wav"), rate as u32, &clacs);
+    // Slides: 2 s of steady tones between silences.
+    for (name, partials) in [
+        ("friction_s20_c15.wav", [310.0, 470.0]),
+        ("friction_s5_c5.wav", [360.0, 540.0]),
+        ("friction_flat.wav", [380.0, 570.0]),
+    ] {
+        let n = (3.0 * rate) as usize;
+        let x: Vec<f32> = (0..n)
+            .map(|i| {
+                let t = i as f64 / rate;
+                let on = (0.5..2.5).contains(&t);
+                let tone = if on {
+                    0.15 * low_tone(partials, t)
+                } else {
+                    0.0
+                };
+                tone as f32 + (g.next() - 0.5) * 6e-5
+            })
+            .collect();
+        write_wav(&rec.join(name), rate as u32, &x);
+    }
+    let (db, report) = import_dir(&rec, &ImportOptions::default()).unwrap();
+    eprintln!("{}", report.notes.join("\n"));
+    assert_eq!(report.skipped, 0, "{:?}", report.notes);
+    // One unit per burst, one spectrum per slide.
+    assert_eq!((db.units.len(), db.spectra.len()), (4 * 3 + 6, 3));
+    let dbdir = temp_dir("low-db");
+    db.write_dir(&dbdir).unwrap();
+
+    let out = temp_dir("low-render");
+    let scene = "s1_slide_release_pinch";
+    let render = |extra: &[&str], tag: &str| -> (Vec<f32>, f64) {
+        let wav = out.join(format!("{tag}.wav"));
+        let mut args = vec!["--scene", scene, "--out", wav.to_str().unwrap(), "--quiet"];
+        args.extend(extra);
+        let o = std::process::Command::new(papier_tests::paths::papier_render())
+            .args(&args)
+            .output()
+            .expect("run papier-render");
+        assert!(
+            o.status.success(),
+            "{tag}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let (sr, l, r) = papier_tests::audio::read_stereo(&wav);
+        assert!(
+            papier_tests::audio::all_finite_normal(&l)
+                && papier_tests::audio::all_finite_normal(&r),
+            "{tag}"
+        );
+        let mono: Vec<f32> = l.iter().zip(&r).map(|(a, b)| 0.5 * (a + b)).collect();
+        (mono, f64::from(sr))
+    };
+    let (imported, sr) = render(&["--db", dbdir.to_str().unwrap()], "imported");
+    let (default, _) = render(&[], "default");
+    assert_eq!(imported.len(), default.len());
+    let (rms_i, rms_d) = (rms(&imported), rms(&default));
+    let (low_i, centroid_i) = low_share_and_centroid(&imported, sr, 1_000.0);
+    let (low_d, centroid_d) = low_share_and_centroid(&default, sr, 1_000.0);
+    eprintln!(
+        "{scene}: imported database RMS {rms_i:.2e}, {:.0} % below 1 kHz, centroid {centroid_i:.0} Hz; \
+         embedded RMS {rms_d:.2e}, {:.0} % below 1 kHz, centroid {centroid_d:.0} Hz",
+        100.0 * low_i,
+        100.0 * low_d
+    );
+    assert!(rms_i > 1e-4, "the imported database is heard: RMS {rms_i}");
+    assert!(rms_d > 1e-4, "the embedded database is heard: RMS {rms_d}");
+    assert!(
+        low_i >= 0.8 && centroid_i < 1_000.0,
+        "the render with --db does not sound like the low recordings"
+    );
+    assert!(
+        low_d < 0.5 && centroid_d > 2.0 * centroid_i,
+        "the embedded database should sound clearly brighter"
+    );
+}
