@@ -16,6 +16,7 @@ use std::time::Instant;
 use papier::offline::cli::{InputSpec, RenderOptions};
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
+use sim_core::sheet::MeshConfig;
 use sim_core::sim::{FrameOutput, SimConfig};
 use sim_core::sound_analysis::{AnalysisConfig, AnalysisInput, SoundAnalysis};
 use sim_core::sound_input::SoundFrame;
@@ -40,10 +41,12 @@ fn render_rtf(inputs: Vec<InputSpec>, out: &Path, reps: usize) -> (f64, f64, u64
     (length, best, events)
 }
 
-/// Median and p99 of the analysis alone, microseconds, over the scene's awake frames.
-fn analysis_us(name: &str) -> (f64, f64, usize) {
+/// Median and p99 of the analysis alone, microseconds, over the scene's awake frames, with S_P
+/// meshed at `spacing_frac` of the sheet's longer side; also the S_P triangle count at the end.
+fn analysis_us(name: &str, spacing_frac: f64) -> (f64, f64, usize, usize) {
     let script = scenario::get(name).unwrap();
-    let base = SimConfig::default();
+    let mut base = SimConfig::default();
+    base.mesh.spacing_frac = spacing_frac;
     let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
     let mut sim = runner.start(base);
     let (v, t) = sim.mesh_capacity();
@@ -84,7 +87,7 @@ fn analysis_us(name: &str) -> (f64, f64, usize) {
     }
     times.sort_by(f64::total_cmp);
     let q = |p: f64| times[((times.len() - 1) as f64 * p).round() as usize];
-    (q(0.5), q(0.99), times.len())
+    (q(0.5), q(0.99), times.len(), sim.sheet().sp.num_triangles())
 }
 
 fn main() {
@@ -124,7 +127,7 @@ fn main() {
     let mut worst = f64::MAX;
     for name in scenario::names() {
         let (len, wall, events) = render_rtf(vec![InputSpec::Scene(name.into())], &tmp, reps);
-        let (med, p99, _) = analysis_us(name);
+        let (med, p99, _, _) = analysis_us(name, MeshConfig::default().spacing_frac);
         let rtf = len / wall;
         let steady = len / (wall - startup).max(1e-9);
         worst = worst.min(rtf);
@@ -144,6 +147,33 @@ fn main() {
         startup * 1e3,
         per_s * 1e3,
         per_s * 100.0
+    ));
+    // Digest-sound §12 test 3: the per-frame control cost against mesh size (seeds: 5–6 ms at
+    // ~200 triangles, 17 ms at ~450, 75 ms at ~1333; T 1976–1980).
+    md.push_str(
+        "\nSound analysis alone against S_P size (c5_full_crumple, meshed finer than the default; \
+         digest-sound §12 test 3; seeds: 5–6 ms per frame at ~200 triangles, 17 ms at ~450, 75 ms \
+         at ~1333):\n\n| spacing | S_P triangles | analysis median µs | analysis p99 µs | frames |\n|---|---|---|---|---|\n",
+    );
+    let mut prev: Option<(usize, f64)> = None;
+    let mut exps = Vec::new();
+    for div in [9.0, 16.0, 24.0, 30.0] {
+        let (med, p99, n, tris) = analysis_us("c5_full_crumple", 1.0 / div);
+        eprintln!("analysis at L/{div}: {tris} triangles, {med:.1}/{p99:.1} us");
+        if let Some((t0, m0)) = prev {
+            exps.push((med / m0).ln() / (tris as f64 / t0 as f64).ln());
+        }
+        prev = Some((tris, med));
+        md.push_str(&format!(
+            "| L/{div} | {tris} | {med:.1} | {p99:.1} | {n} |\n"
+        ));
+    }
+    md.push_str(&format!(
+        "\nLocal growth exponents of the median (cost ∝ N^k between successive rows): {}.\n",
+        exps.iter()
+            .map(|k| format!("{k:.2}"))
+            .collect::<Vec<_>>()
+            .join(", ")
     ));
     print!("{md}");
     if let Some(path) = write {
