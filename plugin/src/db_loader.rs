@@ -13,10 +13,13 @@
 //!  audio thread ──old database──► retired queue ──► dropped on the main/GUI thread
 //! ```
 //!
-//! On activation (main thread) the database for the new sample rate is prepared directly.
+//! On activation (main thread) the database for the new sample rate is prepared directly; a load
+//! still in flight from an earlier request (made at the old rate, for instance by loading a
+//! project before the host activates the plugin) is superseded and never reaches the audio
+//! thread.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crossbeam_queue::ArrayQueue;
@@ -57,6 +60,11 @@ pub struct DbLoader {
     state: Mutex<DbState>,
     sample_rate_bits: AtomicU64,
     request_serial: AtomicU64,
+    /// Loader threads still running.
+    in_flight: AtomicUsize,
+    /// Makes "is this load still the latest request? then publish it" atomic with respect to
+    /// activation superseding every load in flight (never taken on the audio thread).
+    publish: Mutex<()>,
     /// Databases ready to be swapped in by the audio thread.
     pub ready: ArrayQueue<Arc<SoundDb>>,
     /// Databases the audio thread swapped out, to be dropped elsewhere.
@@ -70,6 +78,8 @@ impl Default for DbLoader {
             state: Mutex::new(DbState::Embedded),
             sample_rate_bits: AtomicU64::new(48_000f64.to_bits()),
             request_serial: AtomicU64::new(0),
+            in_flight: AtomicUsize::new(0),
+            publish: Mutex::new(()),
             ready: ArrayQueue::new(2),
             retired: ArrayQueue::new(8),
         }
@@ -93,6 +103,11 @@ impl DbLoader {
         }
     }
 
+    /// True while a loader thread started by [`DbLoader::request`] is still running.
+    pub fn is_loading(&self) -> bool {
+        self.in_flight.load(Ordering::Acquire) > 0
+    }
+
     /// Drops databases the audio thread has swapped out (call off the audio thread).
     pub fn drain_retired(&self) {
         while self.retired.pop().is_some() {}
@@ -104,7 +119,13 @@ impl DbLoader {
         self.sample_rate_bits
             .store(sample_rate_hz.to_bits(), Ordering::Relaxed);
         self.drain_retired();
-        while self.ready.pop().is_some() {}
+        {
+            // Every load in flight was made for another rate (or an older path): supersede it,
+            // and drop what already finished.
+            let _publishing = self.publish.lock().unwrap_or_else(|e| e.into_inner());
+            self.request_serial.fetch_add(1, Ordering::AcqRel);
+            while self.ready.pop().is_some() {}
+        }
         match self.path() {
             None => {
                 self.set_state(DbState::Embedded);
@@ -137,6 +158,7 @@ impl DbLoader {
         if let Some(p) = &path {
             self.set_state(DbState::Loading(p.clone()));
         }
+        self.in_flight.fetch_add(1, Ordering::AcqRel);
         let spawned = std::thread::Builder::new()
             .name("papier-db-load".into())
             .spawn(move || {
@@ -144,35 +166,49 @@ impl DbLoader {
                     None => Ok((crate::render::default_db(rate), DbState::Embedded)),
                     Some(p) => load(p, rate),
                 };
-                // A newer request supersedes this one.
-                if me.request_serial.load(Ordering::Acquire) != serial {
-                    return;
-                }
-                match result {
-                    Ok((db, state)) => {
-                        while me.ready.pop().is_some() {}
-                        let _ = me.ready.push(db);
-                        me.set_state(state);
-                    }
-                    Err(error) => {
-                        let p = path.unwrap_or_default();
-                        nice_plug::nice_warn!("Papier: sound database {}: {error}", p.display());
-                        me.set_state(DbState::Failed { path: p, error });
-                    }
-                }
+                me.publish_result(serial, path, result);
+                me.in_flight.fetch_sub(1, Ordering::AcqRel);
             });
         if let Err(e) = spawned {
+            self.in_flight.fetch_sub(1, Ordering::AcqRel);
             self.set_state(DbState::Failed {
                 path: self.path().unwrap_or_default(),
                 error: format!("cannot start the loader thread: {e}"),
             });
         }
     }
+
+    /// Publishes a finished load (loader thread) unless a newer request or an activation has
+    /// superseded it.
+    fn publish_result(
+        &self,
+        serial: u64,
+        path: Option<PathBuf>,
+        result: Result<(Arc<SoundDb>, DbState), String>,
+    ) {
+        let _publishing = self.publish.lock().unwrap_or_else(|e| e.into_inner());
+        if self.request_serial.load(Ordering::Acquire) != serial {
+            return;
+        }
+        match result {
+            Ok((db, state)) => {
+                while self.ready.pop().is_some() {}
+                let _ = self.ready.push(db);
+                self.set_state(state);
+            }
+            Err(error) => {
+                let p = path.unwrap_or_default();
+                nice_plug::nice_warn!("Papier: sound database {}: {error}", p.display());
+                self.set_state(DbState::Failed { path: p, error });
+            }
+        }
+    }
 }
 
 /// Loads and prepares a user database; the error is one line.
 pub fn load(path: &Path, sample_rate_hz: f64) -> Result<(Arc<SoundDb>, DbState), String> {
-    let (db, warnings) = SoundDb::load(path, sample_rate_hz).map_err(|e| e.to_string())?;
+    let (db, warnings) =
+        SoundDb::load(path, sample_rate_hz).map_err(|e| one_line(&e.to_string()))?;
     if db.num_units() == 0 {
         return Err("the database holds no usable units".into());
     }
@@ -183,6 +219,22 @@ pub fn load(path: &Path, sample_rate_hz: f64) -> Result<(Arc<SoundDb>, DbState),
         warnings: warnings.iter().map(|w| w.to_string()).collect(),
     };
     Ok((Arc::new(db), state))
+}
+
+/// An error message on one line (the editor's status line, `papier-render`'s error): a TOML
+/// parser's multi-line report keeps its text and drops its source excerpt and caret.
+fn one_line(message: &str) -> String {
+    message
+        .lines()
+        .map(str::trim)
+        .filter(|l| {
+            let excerpt = l
+                .trim_start_matches(|c: char| c.is_ascii_digit())
+                .trim_start();
+            !l.is_empty() && !excerpt.starts_with('|')
+        })
+        .collect::<Vec<_>>()
+        .join(": ")
 }
 
 /// The persisted form of the user database folder (`null` = embedded default).
@@ -205,5 +257,237 @@ impl<'a> PersistentField<'a, DbPath> for Arc<DbLoader> {
         f(&DbPath(
             self.path().map(|p| p.to_string_lossy().into_owned()),
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sounddb::{Cell, Database};
+
+    /// A fresh, empty temporary folder.
+    fn temp_dir(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("papier-db-loader-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// Writes a small valid user database (the clac cell, three flap cells and two friction
+    /// spectra of the embedded one, renamed) into `dir`; returns its unit count.
+    fn write_small_db(dir: &Path) -> usize {
+        let (full, _) = crate::render::default_db::embedded_database().unwrap();
+        let keep = |c: &Cell| {
+            c.is_constrained()
+                || [(10.0, 5.0), (20.0, 20.0), (5.0, 30.0)]
+                    .iter()
+                    .any(|&(s, k)| {
+                        c.same_as(&Cell::Free {
+                            straight_cm: s,
+                            curved_cm: k,
+                        })
+                    })
+        };
+        let mut info = full.info.clone();
+        info.name = "loader test".into();
+        let mut db = Database::new(info, full.sample_rate_hz);
+        db.units = full
+            .units
+            .iter()
+            .filter(|u| keep(&u.cell))
+            .cloned()
+            .collect();
+        db.spectra = full
+            .spectra
+            .iter()
+            .filter(|s| keep(&s.cell))
+            .take(2)
+            .cloned()
+            .collect();
+        db.write_dir(dir).unwrap();
+        db.units.len()
+    }
+
+    /// A loader whose requests load at `rate` (as after an activation at that rate).
+    fn loader_at(rate: f64) -> Arc<DbLoader> {
+        let l = Arc::new(DbLoader::default());
+        l.sample_rate_bits.store(rate.to_bits(), Ordering::Relaxed);
+        l
+    }
+
+    /// Waits for every loader thread to finish. Not a timing assertion: the bound only turns a
+    /// hung loader into a failure instead of a hung test run.
+    fn wait_idle(l: &DbLoader) {
+        let mut waited = 0u32;
+        while l.is_loading() {
+            std::thread::sleep(std::time::Duration::from_millis(2));
+            waited += 1;
+            assert!(waited < 150_000, "the loader thread never finished");
+        }
+    }
+
+    /// Detects a `request` that loads on the calling thread (the audio or GUI thread would
+    /// stall), or a loaded database that does not reach the ready queue with a `Ready` status.
+    #[test]
+    fn request_loads_on_its_own_thread_and_queues_the_database() {
+        let dir = temp_dir("valid");
+        let units = write_small_db(&dir);
+        let loader = loader_at(44_100.0);
+        // While the test holds the publish lock no loader thread can hand a result over: if
+        // `request` did the work itself, the result would already be there when it returns.
+        let guard = loader.publish.lock().unwrap();
+        loader.request(Some(dir.clone()));
+        assert!(loader.ready.is_empty());
+        assert!(loader.is_loading());
+        assert_eq!(loader.state(), DbState::Loading(dir.clone()));
+        assert_eq!(loader.path(), Some(dir.clone()));
+        drop(guard);
+        wait_idle(&loader);
+        match loader.state() {
+            DbState::Ready {
+                path,
+                name,
+                units: n,
+                ..
+            } => {
+                assert_eq!(path, dir);
+                assert_eq!(name, "loader test");
+                assert_eq!(n, units);
+            }
+            other => panic!("expected Ready, got {other:?}"),
+        }
+        let db = loader
+            .ready
+            .pop()
+            .expect("the loaded database is queued for the audio thread");
+        assert_eq!(db.num_units(), units);
+        assert!(db.matches_rate(44_100.0));
+        assert!(loader.ready.is_empty(), "one database per request");
+        // The audio thread's swap: the old database is retired and dropped off that thread.
+        assert!(loader.retired.push(Arc::new(SoundDb::empty())).is_ok());
+        loader.drain_retired();
+        assert!(loader.retired.is_empty());
+    }
+
+    /// Detects a broken folder that replaces the database in use (silence or a crash) or whose
+    /// error is lost instead of being shown, and a fallback other than the embedded database
+    /// on the next activation.
+    #[test]
+    fn a_broken_folder_keeps_the_current_database_and_says_why() {
+        let good = temp_dir("good");
+        let units = write_small_db(&good);
+        let loader = loader_at(44_100.0);
+        loader.request(Some(good.clone()));
+        wait_idle(&loader);
+        let current = loader.ready.pop().expect("the good database loads");
+        assert_eq!(current.num_units(), units);
+
+        let broken = temp_dir("broken");
+        std::fs::write(
+            broken.join("manifest.toml"),
+            "format = \"papier-sounddb\"\nversion = 1\nname = [oops\n",
+        )
+        .unwrap();
+        let missing = broken.join("does-not-exist");
+        for (bad, expect) in [(&broken, "manifest"), (&missing, "does-not-exist")] {
+            loader.request(Some(bad.clone()));
+            wait_idle(&loader);
+            match loader.state() {
+                DbState::Failed { path, error } => {
+                    assert_eq!(&path, bad);
+                    assert!(error.contains(expect), "unhelpful error: {error}");
+                    assert!(!error.contains('\n'), "error is one line: {error}");
+                }
+                other => panic!("{}: expected Failed, got {other:?}", bad.display()),
+            }
+            assert!(
+                loader.ready.is_empty(),
+                "nothing replaces the database that plays"
+            );
+            // The choice is kept (saved with the project, shown with its error).
+            assert_eq!(loader.path().as_ref(), Some(bad));
+        }
+
+        // On the next activation the broken choice falls back to the embedded database.
+        let db = loader.prepare_for_rate(44_100.0);
+        let embedded = crate::render::default_db(44_100.0);
+        assert_eq!(db.num_units(), embedded.num_units());
+        assert_ne!(db.num_units(), units);
+        assert!(matches!(loader.state(), DbState::Failed { .. }));
+    }
+
+    /// Detects a multi-line error (the TOML parser's source excerpt) reaching the one-line
+    /// status, and a one-line error that is altered.
+    #[test]
+    fn errors_are_one_line() {
+        let toml = "manifest m.toml is not valid: TOML parse error at line 3, column 13\n  |\n3 | \
+                    name = [oops\n  |             ^\nunclosed array, expected `]`\n";
+        assert_eq!(
+            one_line(toml),
+            "manifest m.toml is not valid: TOML parse error at line 3, column 13: \
+             unclosed array, expected `]`"
+        );
+        let plain = "sound database folder /x does not exist or is not a folder";
+        assert_eq!(one_line(plain), plain);
+    }
+
+    /// Detects a load requested at the old rate (a project loaded before the host activates
+    /// the plugin) that finishes after the activation prepared the database for the new rate
+    /// and is then swapped in by the audio thread: units resampled for the wrong rate.
+    /// (Before the fix this failed whenever the loader thread finished during the activation's
+    /// own load, which is the common timing.)
+    #[test]
+    fn activation_supersedes_a_load_in_flight_for_another_rate() {
+        let dir = temp_dir("superseded");
+        let units = write_small_db(&dir);
+        for _ in 0..3 {
+            let loader = loader_at(48_000.0);
+            loader.request(Some(dir.clone()));
+            let db = loader.prepare_for_rate(44_100.0);
+            wait_idle(&loader);
+            assert!(db.matches_rate(44_100.0));
+            assert_eq!(db.num_units(), units);
+            assert!(
+                loader.ready.is_empty(),
+                "a database loaded for 48 kHz was queued for the 44.1 kHz engine"
+            );
+            assert!(
+                matches!(loader.state(), DbState::Ready { .. }),
+                "{:?}",
+                loader.state()
+            );
+        }
+    }
+
+    /// Detects a persisted `db_path` that does not restore the folder (or restores it without
+    /// loading it), an empty string that is not the embedded default, and a project reload
+    /// with the same folder that reloads it needlessly.
+    #[test]
+    fn the_persisted_path_round_trips_and_loads_only_on_change() {
+        let dir = temp_dir("persisted");
+        write_small_db(&dir);
+        let loader = loader_at(44_100.0);
+        let text = dir.to_string_lossy().into_owned();
+        PersistentField::set(&loader, DbPath(Some(text.clone())));
+        assert_eq!(loader.path(), Some(dir.clone()));
+        assert_eq!(loader.map(|p| p.clone()), DbPath(Some(text.clone())));
+        wait_idle(&loader);
+        assert!(matches!(loader.state(), DbState::Ready { .. }));
+        assert_eq!(loader.ready.len(), 1);
+
+        let serial = loader.request_serial.load(Ordering::Acquire);
+        PersistentField::set(&loader, DbPath(Some(text)));
+        assert_eq!(
+            loader.request_serial.load(Ordering::Acquire),
+            serial,
+            "the same folder is not loaded again"
+        );
+
+        PersistentField::set(&loader, DbPath(Some(String::new())));
+        assert_eq!(loader.path(), None);
+        assert_eq!(loader.map(|p| p.clone()), DbPath(None));
+        wait_idle(&loader);
+        assert_eq!(loader.state(), DbState::Embedded);
     }
 }

@@ -1,14 +1,19 @@
 //! A small CLAP host on `clack-host`, loading the bundled `Papier.clap` the way a DAW does:
 //! scan the factory, instantiate, read the parameter list, set the render mode, activate,
-//! process on a separate audio thread with events, deactivate, save and load state.
+//! process on a separate audio thread with events, deactivate, save and load state; also
+//! flush parameters without processing, and keep the audio thread running while the main thread
+//! works on the plugin ([`Instance::process_concurrently`]).
 
 use std::ffi::CString;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-use clack_extensions::params::{ParamInfoBuffer, PluginParams};
+use clack_extensions::params::{ParamInfoBuffer, ParamInfoFlags, PluginParams};
 use clack_extensions::render::{PluginRender, RenderMode};
 use clack_extensions::state::PluginState;
-use clack_host::events::event_types::{MidiEvent, NoteOffEvent, NoteOnEvent, ParamValueEvent};
+use clack_host::events::event_types::{
+    MidiEvent, NoteChokeEvent, NoteOffEvent, NoteOnEvent, ParamValueEvent,
+};
 use clack_host::prelude::*;
 
 /// Serializes plugin use within one test process. A DAW drives every instance of a plugin from
@@ -57,6 +62,19 @@ pub struct ParamDesc {
     pub max: f64,
     /// Default value.
     pub default: f64,
+    /// Takes whole-number values only (`CLAP_PARAM_IS_STEPPED`).
+    pub stepped: bool,
+}
+
+/// The kind of a raw CLAP note event ([`HostEvent::Note`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoteKind {
+    /// `CLAP_EVENT_NOTE_ON`.
+    On,
+    /// `CLAP_EVENT_NOTE_OFF`.
+    Off,
+    /// `CLAP_EVENT_NOTE_CHOKE`.
+    Choke,
 }
 
 /// A host-side event at an absolute sample position.
@@ -85,6 +103,25 @@ pub enum HostEvent {
         /// Key, or −1.
         key: i16,
     },
+    /// A CLAP note event with every address field given raw: port, channel, key and note id,
+    /// each −1 for a wildcard where the spec allows it (or to see how a plugin copes where it
+    /// does not).
+    Note {
+        /// Sample position.
+        at: u64,
+        /// On, off or choke.
+        kind: NoteKind,
+        /// Note port, or −1.
+        port: i16,
+        /// Channel, or −1.
+        channel: i16,
+        /// Key, or −1.
+        key: i16,
+        /// Note id, or −1.
+        note_id: i32,
+        /// Velocity 0–1.
+        velocity: f64,
+    },
     /// A parameter change (normalized value).
     Param {
         /// Sample position.
@@ -103,6 +140,7 @@ impl HostEvent {
             HostEvent::Midi { at, .. }
             | HostEvent::NoteOn { at, .. }
             | HostEvent::NoteOff { at, .. }
+            | HostEvent::Note { at, .. }
             | HostEvent::Param { at, .. } => at,
         }
     }
@@ -121,6 +159,22 @@ impl HostEvent {
                 Pckn::from_raw(0, 0, key, -1),
                 0.0,
             )),
+            HostEvent::Note {
+                kind,
+                port,
+                channel,
+                key,
+                note_id,
+                velocity,
+                ..
+            } => {
+                let pckn = Pckn::from_raw(port, channel, key, note_id);
+                match kind {
+                    NoteKind::On => ev.push(&NoteOnEvent::new(offset, pckn, velocity)),
+                    NoteKind::Off => ev.push(&NoteOffEvent::new(offset, pckn, velocity)),
+                    NoteKind::Choke => ev.push(&NoteChokeEvent::new(offset, pckn)),
+                }
+            }
             HostEvent::Param { id, value, .. } => {
                 ev.push(&ParamValueEvent::new(offset, id, Pckn::match_all(), value))
             }
@@ -219,6 +273,7 @@ impl Instance {
                     min: info.min_value,
                     max: info.max_value,
                     default: info.default_value,
+                    stepped: info.flags.contains(ParamInfoFlags::IS_STEPPED),
                 });
             }
         }
@@ -359,6 +414,49 @@ impl Instance {
         self.inst.call_on_main_thread_callback();
     }
 
+    /// Sends parameter changes through `clap_plugin_params.flush`, without processing: on the
+    /// main thread while inactive, or (activated with [`Instance::activate`], not processing)
+    /// on the processor's handle. Returns how many events the plugin sent back.
+    pub fn flush_params(&mut self, changes: &[(ClapId, f64)]) -> Result<usize, String> {
+        let events = || {
+            let mut input = EventBuffer::new();
+            for &(id, value) in changes {
+                input.push(&ParamValueEvent::new(0, id, Pckn::match_all(), value));
+            }
+            input
+        };
+        if let Some(mut processor) = self.active.take() {
+            // Active: the spec wants the flush on the audio thread.
+            let (processor, sent_back) = std::thread::scope(|s| {
+                s.spawn(move || {
+                    let input = events();
+                    let mut output = EventBuffer::new();
+                    let mut h = processor.plugin_handle();
+                    let found = h.get_extension::<PluginParams>().map(|ext| {
+                        ext.flush_active(&mut h, &input.as_input(), &mut output.as_output());
+                    });
+                    (processor, found.map(|()| output.len() as usize))
+                })
+                .join()
+                .map_err(|_| "flush panicked".to_string())
+            })?;
+            self.active = Some(processor);
+            sent_back.ok_or_else(|| "no params extension".to_string())
+        } else {
+            let input = events();
+            let mut output = EventBuffer::new();
+            let mut h = self
+                .inst
+                .inactive_plugin_handle()
+                .ok_or("the plugin is active but its processor is elsewhere")?;
+            let ext = h
+                .get_extension::<PluginParams>()
+                .ok_or("no params extension")?;
+            ext.flush(&mut h, &input.as_input(), &mut output.as_output());
+            Ok(output.len() as usize)
+        }
+    }
+
     /// Activates at `sample_rate`, processes `total` samples in blocks of `block` (the last may be
     /// shorter) with `events` on an audio thread, deactivates, and returns the stereo output.
     /// `block_sizes`, if given, overrides `block` with a repeating pattern of sizes (each ≤ max).
@@ -379,8 +477,6 @@ impl Instance {
             .inst
             .activate(|_, _| (), cfg)
             .map_err(|e| format!("activate: {e:?}"))?;
-        let mut sorted: Vec<HostEvent> = events.to_vec();
-        sorted.sort_by_key(|e| e.at());
         let sizes: Vec<u32> = if block_sizes.is_empty() {
             vec![max_block]
         } else {
@@ -394,47 +490,14 @@ impl Instance {
                 let mut proc = stopped
                     .start_processing()
                     .map_err(|e| format!("start_processing: {e:?}"))?;
-                let mut left = Vec::with_capacity(total as usize);
-                let mut right = Vec::with_capacity(total as usize);
-                let mut l = vec![0.0f32; max_block as usize];
-                let mut r = vec![0.0f32; max_block as usize];
-                let mut ports = AudioPorts::with_capacity(2, 1);
-                let mut pos = 0u64;
-                let mut next = 0usize;
+                let mut feed = Feed::new(events, max_block, total as usize);
                 let mut k = 0usize;
-                while pos < total {
-                    let n = u64::from(sizes[k % sizes.len()]).min(total - pos);
+                while feed.pos < total {
+                    let n = u64::from(sizes[k % sizes.len()]).min(total - feed.pos);
                     k += 1;
-                    let mut ev = EventBuffer::new();
-                    while next < sorted.len() && sorted[next].at() < pos + n {
-                        let t = (sorted[next].at().max(pos) - pos) as u32;
-                        sorted[next].push_to(&mut ev, t);
-                        next += 1;
-                    }
-                    let mut out_ev = EventBuffer::new();
-                    let nn = n as usize;
-                    {
-                        let mut outputs = ports.with_output_buffers([AudioPortBuffer {
-                            latency: 0,
-                            channels: AudioPortBufferType::f32_output_only(
-                                [&mut l[..nn], &mut r[..nn]].into_iter(),
-                            ),
-                        }]);
-                        proc.process(
-                            &InputAudioBuffers::empty(),
-                            &mut outputs,
-                            &ev.as_input(),
-                            &mut out_ev.as_output(),
-                            Some(pos),
-                            None,
-                        )
-                        .map_err(|e| format!("process: {e:?}"))?;
-                    }
-                    left.extend_from_slice(&l[..nn]);
-                    right.extend_from_slice(&r[..nn]);
-                    pos += n;
+                    feed.block(&mut proc, n as u32)?;
                 }
-                Ok((proc.stop_processing(), left, right))
+                Ok((proc.stop_processing(), feed.left, feed.right))
             })
             .join()
             .map_err(|_| "audio thread panicked".to_string())?
@@ -443,5 +506,182 @@ impl Instance {
         self.inst.deactivate(stopped);
         self.idle();
         Ok((left, right))
+    }
+
+    /// Activates at `sample_rate` and starts an audio thread that processes blocks of
+    /// `max_block` samples with `events` (absolute sample positions) whenever
+    /// [`AudioThread::play_to`] lets it, while `main` runs on this (main) thread with the
+    /// instance: it can save or load state, read parameters, … while audio is processed. Then
+    /// stops the audio thread, deactivates, and returns `main`'s result and the stereo output.
+    pub fn process_concurrently<R>(
+        &mut self,
+        sample_rate: f64,
+        max_block: u32,
+        events: &[HostEvent],
+        main: impl FnOnce(&mut Instance, &AudioThread) -> R,
+    ) -> Result<(R, Vec<f32>, Vec<f32>), String> {
+        let cfg = PluginAudioConfiguration {
+            sample_rate,
+            min_frames_count: 1,
+            max_frames_count: max_block,
+        };
+        let stopped = self
+            .inst
+            .activate(|_, _| (), cfg)
+            .map_err(|e| format!("activate: {e:?}"))?;
+        let ctl = AudioThread {
+            target: AtomicU64::new(0),
+            done: AtomicU64::new(0),
+            stop: AtomicBool::new(false),
+            ended: AtomicBool::new(false),
+        };
+        let (r, audio) = std::thread::scope(|s| {
+            let ctl = &ctl;
+            let audio = s.spawn(move || -> Result<_, String> {
+                let run = || -> Result<_, String> {
+                    let mut proc = stopped
+                        .start_processing()
+                        .map_err(|e| format!("start_processing: {e:?}"))?;
+                    let mut feed = Feed::new(events, max_block, 0);
+                    while !ctl.stop.load(Ordering::Acquire) {
+                        let target = ctl.target.load(Ordering::Acquire);
+                        if feed.pos < target {
+                            let n = (target - feed.pos).min(u64::from(max_block));
+                            feed.block(&mut proc, n as u32)?;
+                            ctl.done.store(feed.pos, Ordering::Release);
+                        } else {
+                            std::thread::sleep(std::time::Duration::from_micros(100));
+                        }
+                    }
+                    Ok((proc.stop_processing(), feed.left, feed.right))
+                };
+                let result = run();
+                ctl.ended.store(true, Ordering::Release);
+                result
+            });
+            // Stops the audio thread also when `main` panics (else the scope would wait forever).
+            struct StopOnDrop<'a>(&'a AtomicBool);
+            impl Drop for StopOnDrop<'_> {
+                fn drop(&mut self) {
+                    self.0.store(true, Ordering::Release);
+                }
+            }
+            let stop = StopOnDrop(&ctl.stop);
+            let r = main(self, ctl);
+            drop(stop);
+            (r, audio.join())
+        });
+        let (stopped, left, right) = audio.map_err(|_| "audio thread panicked".to_string())??;
+        self.inst.deactivate(stopped);
+        self.idle();
+        Ok((r, left, right))
+    }
+}
+
+/// The main thread's control of the audio thread of [`Instance::process_concurrently`].
+pub struct AudioThread {
+    target: AtomicU64,
+    done: AtomicU64,
+    stop: AtomicBool,
+    ended: AtomicBool,
+}
+
+impl AudioThread {
+    /// Lets the audio thread process up to sample `n` (returns at once; it runs meanwhile).
+    pub fn play_to(&self, n: u64) {
+        self.target.fetch_max(n, Ordering::AcqRel);
+    }
+
+    /// Samples processed so far.
+    pub fn processed(&self) -> u64 {
+        self.done.load(Ordering::Acquire)
+    }
+
+    /// Waits until the audio thread has processed everything [`AudioThread::play_to`] allowed.
+    /// Returns false if the audio thread ended early (failed or panicked).
+    pub fn wait(&self) -> bool {
+        loop {
+            if self.processed() >= self.target.load(Ordering::Acquire) {
+                return true;
+            }
+            if self.ended.load(Ordering::Acquire) {
+                return false;
+            }
+            std::thread::sleep(std::time::Duration::from_micros(100));
+        }
+    }
+
+    /// [`AudioThread::play_to`] then [`AudioThread::wait`].
+    pub fn play_and_wait(&self, n: u64) -> bool {
+        self.play_to(n);
+        self.wait()
+    }
+}
+
+/// Feeds blocks to a processing plugin: the host events in time order, the output buffers, the
+/// collected output.
+struct Feed {
+    sorted: Vec<HostEvent>,
+    next: usize,
+    pos: u64,
+    l: Vec<f32>,
+    r: Vec<f32>,
+    ports: AudioPorts,
+    left: Vec<f32>,
+    right: Vec<f32>,
+}
+
+impl Feed {
+    fn new(events: &[HostEvent], max_block: u32, capacity: usize) -> Self {
+        let mut sorted = events.to_vec();
+        sorted.sort_by_key(|e| e.at());
+        Self {
+            sorted,
+            next: 0,
+            pos: 0,
+            l: vec![0.0; max_block as usize],
+            r: vec![0.0; max_block as usize],
+            ports: AudioPorts::with_capacity(2, 1),
+            left: Vec::with_capacity(capacity),
+            right: Vec::with_capacity(capacity),
+        }
+    }
+
+    /// Processes the next `n` samples (n ≤ the maximum block size).
+    fn block(
+        &mut self,
+        proc: &mut StartedPluginAudioProcessor<TestHost>,
+        n: u32,
+    ) -> Result<(), String> {
+        let pos = self.pos;
+        let mut ev = EventBuffer::new();
+        while self.next < self.sorted.len() && self.sorted[self.next].at() < pos + u64::from(n) {
+            let t = (self.sorted[self.next].at().max(pos) - pos) as u32;
+            self.sorted[self.next].push_to(&mut ev, t);
+            self.next += 1;
+        }
+        let mut out_ev = EventBuffer::new();
+        let nn = n as usize;
+        {
+            let mut outputs = self.ports.with_output_buffers([AudioPortBuffer {
+                latency: 0,
+                channels: AudioPortBufferType::f32_output_only(
+                    [&mut self.l[..nn], &mut self.r[..nn]].into_iter(),
+                ),
+            }]);
+            proc.process(
+                &InputAudioBuffers::empty(),
+                &mut outputs,
+                &ev.as_input(),
+                &mut out_ev.as_output(),
+                Some(pos),
+                None,
+            )
+            .map_err(|e| format!("process: {e:?}"))?;
+        }
+        self.left.extend_from_slice(&self.l[..nn]);
+        self.right.extend_from_slice(&self.r[..nn]);
+        self.pos += u64::from(n);
+        Ok(())
     }
 }

@@ -81,6 +81,7 @@ impl Gesture {
                     HostEvent::Midi { at: a, .. }
                     | HostEvent::NoteOn { at: a, .. }
                     | HostEvent::NoteOff { at: a, .. }
+                    | HostEvent::Note { at: a, .. }
                     | HostEvent::Param { at: a, .. } => *a = at,
                 }
                 out.push(e);

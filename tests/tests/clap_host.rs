@@ -1,14 +1,17 @@
 //! The bundled `Papier.clap` in a real CLAP host (`clack-host`): descriptor and parameters,
-//! processing at 44.1 and 96 kHz with maximum block sizes 1, 64, 512 and 4096, notes and
-//! automation, state save/load byte-identity, corrupt state, and the offline render against
-//! `papier-render`.
+//! processing at 44.1 and 96 kHz with maximum block sizes 1, 64, 512, 4096 and 16384, notes and
+//! automation with an audible effect, state save/load byte-identity, corrupt state, the offline
+//! render against `papier-render`; clap-validator's checks as far as this host can run them
+//! (parameter fuzzing with sample-accurate changes, wildcard note events, params flush, state
+//! while active); and the user sound database chosen through the state.
 
 use std::process::Command;
 
+use clack_host::prelude::ClapId;
 use papier::gesture_map::MidiInput;
 use papier::offline::midi_file::{TimedMidi, write_smf};
-use papier_tests::audio::{all_finite_normal, read_stereo};
-use papier_tests::clap::{Bundle, HostEvent, Instance, serial};
+use papier_tests::audio::{all_finite_normal, peak, read_stereo};
+use papier_tests::clap::{Bundle, HostEvent, Instance, NoteKind, ParamDesc, serial};
 use papier_tests::paths;
 
 fn bundle() -> Bundle {
@@ -137,25 +140,55 @@ fn descriptor_and_parameters_are_what_a_daw_expects() {
     assert_eq!(size.module, "Sheet");
 }
 
+/// −60 dBFS: a render whose peak stays below this is treated as silent.
+const AUDIBLE: f32 = 1e-3;
+/// How much louder than the idle render (no events) the phrase must be: a clear audible effect.
+const PHRASE_OVER_IDLE: f32 = 10.0;
+
+/// Processing at 44.1 and 96 kHz with maximum block sizes 1, 64, 512 and 4096 (and varying
+/// block sizes up to the maximum), in real-time and offline mode. Detects a failure to
+/// activate or process, output of the wrong length, NaN/Inf/subnormal samples, and, offline,
+/// events that have no audible effect: the phrase must peak above −60 dBFS and at least ten
+/// times above the idle render of the same configuration (measured: phrase peaks of 0.45–0.47,
+/// idle exactly silent). In real time the sheet is simulated on its own thread, which the
+/// test's faster-than-real-time processing outruns, so what is heard there depends on timing
+/// (measured: anything from silence to 0.04) and only finiteness is checked.
 #[test]
 fn processes_at_44k_and_96k_with_every_maximum_block_size() {
     let _serial = serial();
     let b = bundle();
     for sr in [44_100.0, 96_000.0] {
         for max in [1u32, 64, 512, 4096] {
-            let mut inst = instance(&b);
-            let events = phrase(&inst, sr);
-            // Varying block sizes up to the maximum, as hosts do.
-            let sizes = [max, (max / 3).max(1), 1, max];
-            let total = (0.35 * sr) as u64;
-            let (l, r) = inst
-                .render(sr, max, &sizes, total, &events)
-                .unwrap_or_else(|e| panic!("{sr} Hz, max {max}: {e}"));
-            assert_eq!(l.len() as u64, total);
-            assert!(
-                all_finite_normal(&l) && all_finite_normal(&r),
-                "{sr} Hz, max {max}"
-            );
+            for offline in [false, true] {
+                let what = format!("{sr} Hz, max {max}, offline {offline}");
+                // Varying block sizes up to the maximum, as hosts do.
+                let sizes = [max, (max / 3).max(1), 1, max];
+                let total = (0.35 * sr) as u64;
+                let mut inst = instance(&b);
+                inst.set_offline(offline).unwrap();
+                let events = phrase(&inst, sr);
+                let played = inst
+                    .render(sr, max, &sizes, total, &events)
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+                let mut inst = instance(&b);
+                inst.set_offline(offline).unwrap();
+                let idle = inst
+                    .render(sr, max, &sizes, total, &[])
+                    .unwrap_or_else(|e| panic!("{what}, idle: {e}"));
+                for out in [&played, &idle] {
+                    assert_eq!(out.0.len() as u64, total, "{what}");
+                    assert!(
+                        all_finite_normal(&out.0) && all_finite_normal(&out.1),
+                        "{what}"
+                    );
+                }
+                let (p, q) = (stereo_peak(&played), stereo_peak(&idle));
+                println!("{what}: phrase peak {p:e}, idle peak {q:e}");
+                assert!(
+                    !offline || (p >= AUDIBLE && p >= PHRASE_OVER_IDLE * q),
+                    "{what}: the phrase is not clearly audible (peak {p:e}, idle {q:e})"
+                );
+            }
         }
     }
 }
@@ -340,13 +373,11 @@ fn corrupt_state_is_rejected_and_the_plugin_keeps_its_values() {
     assert!(all_finite_normal(&l) && all_finite_normal(&r));
 }
 
-#[test]
-fn offline_render_equals_papier_render() {
-    let _serial = serial();
-    let sr = 48_000u32;
-    let dir = paths::scratch("clap_offline_equivalence");
-    // Times on the 1/960 s grid of the MIDI file writer, so both sides see the same samples.
-    let midi = [
+/// The MIDI of the offline-equivalence renders: grab, lift, shake, twist, second grab, release,
+/// reset. Times are on the 1/960 s grid of the MIDI file writer, so both sides see the same
+/// samples.
+fn equivalence_midi() -> Vec<(f64, MidiInput)> {
+    vec![
         (
             0.1,
             MidiInput::NoteOn {
@@ -390,8 +421,17 @@ fn offline_render_equals_papier_render() {
                 velocity: 1.0,
             },
         ),
-    ];
-    let timed: Vec<TimedMidi> = midi
+    ]
+}
+
+/// The slide automation of the offline-equivalence renders: (time s, value).
+const EQUIVALENCE_SLIDE: [(f64, f64); 2] = [(0.7, 0.5), (1.6, 0.25)];
+
+/// Renders [`equivalence_midi`] and [`EQUIVALENCE_SLIDE`] (3 s) with `papier-render` at `sr`,
+/// with `extra` arguments; returns the stereo output.
+fn papier_render_equivalence(name: &str, sr: u32, extra: &[&str]) -> (Vec<f32>, Vec<f32>) {
+    let dir = paths::scratch(name);
+    let timed: Vec<TimedMidi> = equivalence_midi()
         .iter()
         .map(|(t, m)| TimedMidi {
             time_s: *t,
@@ -399,10 +439,17 @@ fn offline_render_equals_papier_render() {
         })
         .collect();
     std::fs::write(dir.join("in.mid"), write_smf(&timed, 3.0)).unwrap();
+    let points: Vec<String> = EQUIVALENCE_SLIDE
+        .iter()
+        .map(|(t, v)| format!("[{t}, {v}]"))
+        .collect();
     std::fs::write(
         dir.join("in.toml"),
-        "version = 1\nduration_s = 3.0\n[[lane]]\nid = \"slide\"\ninterp = \"step\"\n\
-         points = [[0.7, 0.5], [1.6, 0.25]]\n",
+        format!(
+            "version = 1\nduration_s = 3.0\n[[lane]]\nid = \"slide\"\ninterp = \"step\"\n\
+             points = [{}]\n",
+            points.join(", ")
+        ),
     )
     .unwrap();
     let out = dir.join("render.wav");
@@ -413,18 +460,26 @@ fn offline_render_equals_papier_render() {
         .arg(dir.join("in.toml"))
         .arg("--out")
         .arg(&out)
-        .args(["--sample-rate", "48000", "--block", "300", "--quiet"])
+        .args([
+            "--sample-rate",
+            &sr.to_string(),
+            "--block",
+            "300",
+            "--quiet",
+        ])
+        .args(extra)
         .status()
         .unwrap();
-    assert!(status.success());
-    let (rate, rl, rr) = read_stereo(&out);
+    assert!(status.success(), "papier-render {extra:?} failed");
+    let (rate, l, r) = read_stereo(&out);
     assert_eq!(rate, sr);
+    (l, r)
+}
 
-    let b = bundle();
-    let mut inst = instance(&b);
-    inst.set_offline(true).unwrap();
+/// [`equivalence_midi`] and [`EQUIVALENCE_SLIDE`] as host events at `sr`.
+fn equivalence_events(inst: &Instance, sr: u32) -> Vec<HostEvent> {
     let sample = |t: f64| (t * f64::from(sr)).round() as u64;
-    let mut events: Vec<HostEvent> = midi
+    let mut events: Vec<HostEvent> = equivalence_midi()
         .iter()
         .map(|(t, m)| {
             let data = match *m {
@@ -442,33 +497,542 @@ fn offline_render_equals_papier_render() {
         })
         .collect();
     let slide = inst.param("Slide");
-    events.push(HostEvent::Param {
-        at: sample(0.7),
-        id: slide,
-        value: 0.5,
-    });
-    events.push(HostEvent::Param {
-        at: sample(1.6),
-        id: slide,
-        value: 0.25,
-    });
-    let (hl, hr) = inst
+    for (t, v) in EQUIVALENCE_SLIDE {
+        events.push(HostEvent::Param {
+            at: sample(t),
+            id: slide,
+            value: v,
+        });
+    }
+    events
+}
+
+/// Index of the first sample where two stereo renders differ bit-wise.
+fn first_difference(a: &(Vec<f32>, Vec<f32>), b: &(Vec<f32>, Vec<f32>)) -> Option<usize> {
+    assert_eq!(a.0.len(), b.0.len(), "render lengths");
+    a.0.iter()
+        .zip(&b.0)
+        .chain(a.1.iter().zip(&b.1))
+        .position(|(x, y)| x.to_bits() != y.to_bits())
+}
+
+/// Largest absolute sample of a stereo render.
+fn stereo_peak(x: &(Vec<f32>, Vec<f32>)) -> f32 {
+    peak(&x.0).max(peak(&x.1))
+}
+
+/// Detects any divergence between the plugin in a host's offline render mode and
+/// `papier-render` on the same MIDI and automation (different block sizes on both sides), and,
+/// since equal silence would prove nothing, a render that is silent.
+#[test]
+fn offline_render_equals_papier_render() {
+    let _serial = serial();
+    let sr = 48_000u32;
+    let reference = papier_render_equivalence("clap_offline_equivalence", sr, &[]);
+    let b = bundle();
+    let mut inst = instance(&b);
+    inst.set_offline(true).unwrap();
+    let events = equivalence_events(&inst, sr);
+    let host = inst
         .render(
             f64::from(sr),
             512,
             &[512, 100, 37, 512, 1, 255],
-            rl.len() as u64,
+            reference.0.len() as u64,
             &events,
         )
         .unwrap();
-    assert_eq!(hl.len(), rl.len());
-    let first_diff = hl
-        .iter()
-        .zip(&rl)
-        .chain(hr.iter().zip(&rr))
-        .position(|(a, b)| a.to_bits() != b.to_bits());
     assert_eq!(
-        first_diff, None,
+        first_difference(&host, &reference),
+        None,
         "host offline render differs from papier-render"
     );
+    let p = stereo_peak(&host);
+    assert!(
+        p >= AUDIBLE,
+        "the compared render is (nearly) silent, peak {p:e}: the equality proves nothing"
+    );
+}
+
+/// A small deterministic random generator (xorshift64*), so that fuzzing runs are reproducible.
+struct Rng(u64);
+
+impl Rng {
+    fn next_f64(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A random value of `p` in its CLAP range (whole numbers for stepped parameters).
+    fn value(&mut self, p: &ParamDesc) -> f64 {
+        let v = p.min + self.next_f64() * (p.max - p.min);
+        if p.stepped { v.round() } else { v }
+    }
+}
+
+/// Checks that the plugin reports `expected` (CLAP id, value) for every parameter.
+fn assert_values(inst: &mut Instance, expected: &[(ClapId, f64)], what: &str) {
+    for &(id, v) in expected {
+        let name = inst
+            .params
+            .iter()
+            .find(|p| p.id == id)
+            .map(|p| p.name.clone())
+            .unwrap_or_default();
+        let got = inst
+            .param_value(id)
+            .unwrap_or_else(|| panic!("{what}: no value for {name}"));
+        assert!(
+            (got - v).abs() <= 1e-4 * (1.0 + v.abs()),
+            "{what}: {name} is {got}, expected {v}"
+        );
+    }
+}
+
+/// clap-validator's parameter fuzzing with sample-accurate changes: every parameter gets a new
+/// random value every 10, 100 or 1000 samples (in the middle of blocks of varying sizes) for
+/// 3 s of audio while the sheet is held and crumpled, in real-time and offline mode. Detects a
+/// panic, an error from `process`, NaN/Inf/subnormal output, output beyond the soft clipper's
+/// bound of ±1, and parameter events that are not applied (the last values must be the ones the
+/// plugin reports).
+#[test]
+fn parameter_fuzzing_with_sample_accurate_changes_stays_finite_and_bounded() {
+    let _serial = serial();
+    let b = bundle();
+    let sr = 48_000.0;
+    let total = (3.0 * sr) as u64;
+    let mut rng = Rng(0x5EED_1234_ABCD_0001);
+    for (interval, offline) in [(10u64, false), (100, false), (1000, false), (100, true)] {
+        let mut inst = instance(&b);
+        inst.set_offline(offline).unwrap();
+        let params = inst.params.clone();
+        let mut events = vec![
+            HostEvent::NoteOn {
+                at: 0,
+                key: 50,
+                velocity: 0.9,
+            },
+            HostEvent::NoteOn {
+                at: 5,
+                key: 55,
+                velocity: 0.6,
+            },
+        ];
+        let mut last = Vec::new();
+        let mut at = 0;
+        while at < total {
+            last.clear();
+            for p in &params {
+                let value = rng.value(p);
+                events.push(HostEvent::Param {
+                    at,
+                    id: p.id,
+                    value,
+                });
+                last.push((p.id, value));
+            }
+            // The gestures through MIDI too, so that the sheet moves whatever the fuzzer does.
+            events.push(HostEvent::Midi {
+                at,
+                data: [0xB0, 1, (rng.next_f64() * 127.0) as u8],
+            });
+            at += interval;
+        }
+        let (l, r) = inst
+            .render(sr, 512, &[512, 10, 333, 1, 512], total, &events)
+            .unwrap_or_else(|e| panic!("every {interval} samples, offline {offline}: {e}"));
+        assert!(
+            all_finite_normal(&l) && all_finite_normal(&r),
+            "every {interval} samples, offline {offline}: non-finite or subnormal output"
+        );
+        let p = peak(&l).max(peak(&r));
+        assert!(
+            p <= 1.0,
+            "every {interval} samples, offline {offline}: peak {p} beyond full scale"
+        );
+        assert_values(
+            &mut inst,
+            &last,
+            &format!("after fuzzing every {interval} samples"),
+        );
+    }
+}
+
+/// clap-validator's largest maximum block size, 16384, with full-size blocks. Detects a failure
+/// to activate or process at that size, non-finite output, and, in offline mode, output that
+/// depends on the block size (it must equal the same render in blocks of 512) or is silent.
+#[test]
+fn processes_with_a_maximum_block_of_16384() {
+    let _serial = serial();
+    let b = bundle();
+    for sr in [44_100.0, 48_000.0] {
+        let total = (1.5 * sr) as u64;
+        let mut renders = Vec::new();
+        for (max, sizes) in [
+            (16_384u32, vec![16_384u32, 16_384, 7, 16_384]),
+            (512, vec![]),
+        ] {
+            let mut inst = instance(&b);
+            inst.set_offline(true).unwrap();
+            let events = phrase(&inst, sr);
+            let out = inst
+                .render(sr, max, &sizes, total, &events)
+                .unwrap_or_else(|e| panic!("{sr} Hz, max {max}: {e}"));
+            assert!(all_finite_normal(&out.0) && all_finite_normal(&out.1));
+            renders.push(out);
+        }
+        assert_eq!(
+            first_difference(&renders[0], &renders[1]),
+            None,
+            "{sr} Hz: blocks of 16384 and of 512 render differently"
+        );
+        let p = stereo_peak(&renders[0]);
+        assert!(p >= AUDIBLE, "{sr} Hz: silent render (peak {p:e})");
+        // Real time, the same block sizes.
+        let mut inst = instance(&b);
+        let events = phrase(&inst, sr);
+        let (l, r) = inst
+            .render(sr, 16_384, &[16_384, 3, 16_384], total, &events)
+            .unwrap_or_else(|e| panic!("{sr} Hz real time, max 16384: {e}"));
+        assert!(all_finite_normal(&l) && all_finite_normal(&r));
+    }
+}
+
+/// CLAP note events with wildcard (−1) port, channel, key and note id, notes off and chokes for
+/// notes that were never on, a note on with no key, and a note port that does not exist, as
+/// clap-validator sends them. Detects a crash or non-finite output; and, in offline mode, any
+/// difference from the same performance sent as plain notes: a note on whose port, channel and
+/// note id are wildcards must still grab, a wildcard note off (or choke) must let every hand go,
+/// and the unmatched events must do nothing.
+#[test]
+fn wildcard_and_unmatched_note_events_are_harmless() {
+    let _serial = serial();
+    let b = bundle();
+    let sr = 48_000.0;
+    let at = |t: f64| (t * sr).round() as u64;
+    let note = |at: u64, kind: NoteKind, port: i16, channel: i16, key: i16, note_id: i32| {
+        HostEvent::Note {
+            at,
+            kind,
+            port,
+            channel,
+            key,
+            note_id,
+            velocity: 0.8,
+        }
+    };
+    let plain = |inst: &Instance| phrase(inst, sr);
+    let wild = |inst: &Instance| {
+        let mut e: Vec<HostEvent> = phrase(inst, sr)
+            .into_iter()
+            .map(|e| match e {
+                // Port, channel and note id unspecified: the key alone says which hand.
+                HostEvent::NoteOn { at: t, key, .. } => {
+                    note(t, NoteKind::On, -1, -1, i16::from(key), -1)
+                }
+                // A note off for key 50 on any port and channel, with any note id.
+                HostEvent::NoteOff { at: t, key: 50 } => note(t, NoteKind::Off, -1, -1, 50, -1),
+                // Everything a wildcard: every note, i.e. every hand lets go.
+                HostEvent::NoteOff { at: t, .. } => note(t, NoteKind::Off, -1, -1, -1, -1),
+                other => other,
+            })
+            .collect();
+        // Before anything is held: offs and chokes of notes never played, a note on without a
+        // key, a note on a port the plugin does not have and its off.
+        e.extend([
+            note(0, NoteKind::Off, 0, 0, 53, -1),
+            note(0, NoteKind::Off, -1, -1, -1, -1),
+            note(at(0.001), NoteKind::Choke, -1, -1, -1, -1),
+            note(at(0.002), NoteKind::Choke, 0, 3, 52, 77),
+            note(at(0.003), NoteKind::On, 0, 0, -1, -1),
+            note(at(0.004), NoteKind::Off, 0, 0, -1, 4),
+            note(at(0.005), NoteKind::On, 7, 0, 59, -1),
+            note(at(0.3), NoteKind::Off, 0, 9, 127, 12345),
+            note(at(0.3), NoteKind::Choke, -1, -1, 48, 99),
+        ]);
+        e
+    };
+    let mut outs = Vec::new();
+    for (events_of, offline) in [
+        (&plain as &dyn Fn(&Instance) -> Vec<HostEvent>, true),
+        (&wild, true),
+        (&wild, false),
+    ] {
+        let mut inst = instance(&b);
+        inst.set_offline(offline).unwrap();
+        let events = events_of(&inst);
+        let out = inst
+            .render(sr, 256, &[256, 31, 256], at(0.5), &events)
+            .unwrap();
+        assert!(all_finite_normal(&out.0) && all_finite_normal(&out.1));
+        assert!(stereo_peak(&out) <= 1.0);
+        outs.push(out);
+    }
+    let p = stereo_peak(&outs[0]);
+    assert!(p >= AUDIBLE, "the plain performance is silent (peak {p:e})");
+    assert_eq!(
+        first_difference(&outs[0], &outs[1]),
+        None,
+        "wildcard note events did not act as the plain notes do"
+    );
+}
+
+/// Parameter values sent through `clap_plugin_params.flush` without any processing, inactive
+/// and then active but not processing, as hosts do while the transport is stopped. Detects
+/// flushed values that are not applied (`get_value` must report them), flush and `process`
+/// disagreeing about the same values, and flushed values that processing then ignores (a gain
+/// flushed to "off" must make the next render exactly silent).
+#[test]
+fn params_flush_without_processing_applies_values() {
+    let _serial = serial();
+    let b = bundle();
+    let mut rng = Rng(0xF1_0511);
+    let mut a = instance(&b);
+    let params = a.params.clone();
+    let values: Vec<(ClapId, f64)> = params.iter().map(|p| (p.id, rng.value(p))).collect();
+    a.flush_params(&values).expect("flush while inactive");
+    assert_values(&mut a, &values, "after an inactive flush");
+
+    // The same values through process events: the plugin reports the same.
+    let mut c = instance(&b);
+    c.set_offline(true).unwrap();
+    let events: Vec<HostEvent> = values
+        .iter()
+        .map(|&(id, value)| HostEvent::Param { at: 0, id, value })
+        .collect();
+    c.render(48_000.0, 64, &[], 64, &events).unwrap();
+    for &(id, _) in &values {
+        assert_eq!(
+            a.param_value(id),
+            c.param_value(id),
+            "flush and process disagree on parameter {id:?}"
+        );
+    }
+
+    // Active, not processing: flush again, then play.
+    let sr = 48_000.0;
+    let mut d = instance(&b);
+    d.activate(sr, 512).unwrap();
+    let more: Vec<(ClapId, f64)> = params.iter().map(|p| (p.id, rng.value(p))).collect();
+    d.flush_params(&more).expect("flush while active");
+    assert_values(&mut d, &more, "after an active flush");
+    d.deactivate();
+    d.render(sr, 512, &[], 4800, &[]).unwrap();
+    assert_values(&mut d, &more, "after processing");
+
+    // Processing uses the flushed values: output gain flushed to its minimum ("off") silences
+    // the phrase that plays at the default gain.
+    let gain = a.param("Output Gain");
+    let gain_desc = params.iter().find(|p| p.id == gain).unwrap().clone();
+    let mut outs = Vec::new();
+    for g in [gain_desc.min, gain_desc.default] {
+        let mut d = instance(&b);
+        d.set_offline(true).unwrap();
+        d.activate(sr, 512).unwrap();
+        d.flush_params(&[(gain, g)]).expect("flush while active");
+        d.deactivate();
+        let events = phrase(&d, sr);
+        outs.push(d.render(sr, 512, &[], (0.6 * sr) as u64, &events).unwrap());
+    }
+    // The engine starts at the mix (it does not glide there from 0 dB), so "off" is silent
+    // from the first sample.
+    let whole = |o: &(Vec<f32>, Vec<f32>)| peak(&o.0).max(peak(&o.1));
+    let (off, on) = (whole(&outs[0]), whole(&outs[1]));
+    println!("peak {off:e} with the gain off, {on:e} at the default");
+    assert!(on >= AUDIBLE, "silent at the default gain (peak {on:e})");
+    assert_eq!(off, 0.0, "output gain flushed to off, but the plugin plays");
+}
+
+/// Saving and loading the state while the plugin is active in real-time mode and its audio
+/// thread is processing, as a DAW does on undo or when the user loads a preset during
+/// playback. Detects a save that misses parameter values set by events, a load that does not
+/// apply the values (or that the running audio thread then overwrites), a re-save that differs
+/// in its parameters, a deadlock between the two threads, and non-finite output around the
+/// loads.
+#[test]
+fn state_save_and_load_while_active_in_real_time_keeps_parameter_values() {
+    let _serial = serial();
+    let b = bundle();
+    let sr = 48_000.0;
+    let mut fresh = instance(&b);
+    let defaults = fresh.save_state().unwrap();
+    let mut inst = instance(&b);
+    inst.set_offline(false).unwrap();
+    let params = inst.params.clone();
+    let mut rng = Rng(0x57A7E);
+    let values: Vec<(ClapId, f64)> = params.iter().map(|p| (p.id, rng.value(p))).collect();
+    let default_values: Vec<(ClapId, f64)> = params.iter().map(|p| (p.id, p.default)).collect();
+    let mut events: Vec<HostEvent> = values
+        .iter()
+        .map(|&(id, value)| HostEvent::Param { at: 0, id, value })
+        .collect();
+    // The phrase's notes and CCs, not its slide automation (the values above must stay).
+    events.extend(
+        phrase(&inst, sr)
+            .into_iter()
+            .filter(|e| !matches!(e, HostEvent::Param { .. })),
+    );
+    let second = |t: f64| (t * sr) as u64;
+    let ((), l, r) = inst
+        .process_concurrently(sr, 256, &events, |inst, audio| {
+            assert!(audio.play_and_wait(second(0.1)), "audio thread failed");
+            assert_values(inst, &values, "set by events while playing");
+            let saved = inst.save_state().unwrap();
+            // Load while the audio thread runs on.
+            audio.play_to(second(0.6));
+            inst.load_state(&defaults).unwrap();
+            assert_values(inst, &default_values, "defaults loaded while playing");
+            inst.load_state(&saved).unwrap();
+            assert_values(inst, &values, "state loaded back while playing");
+            assert!(audio.wait(), "audio thread failed");
+            assert!(audio.processed() >= second(0.6));
+            let resaved = inst.save_state().unwrap();
+            assert_eq!(
+                split_state(&resaved)["params"],
+                split_state(&saved)["params"],
+                "re-saved parameters differ"
+            );
+            assert!(audio.play_and_wait(second(0.8)), "audio thread failed");
+            inst.idle();
+            assert_values(inst, &values, "after playing on");
+        })
+        .unwrap();
+    assert!(l.len() as u64 >= second(0.8));
+    assert!(all_finite_normal(&l) && all_finite_normal(&r));
+    assert!(peak(&l).max(peak(&r)) <= 1.0);
+}
+
+/// Writes a small valid user sound database into `dir` (the clac cell, three flap cells and two
+/// friction spectra of the embedded database), so it sounds different from the default.
+fn write_small_db(dir: &std::path::Path) {
+    use sounddb::{Cell, Database};
+    let (full, _) = papier::render::default_db::embedded_database().unwrap();
+    let keep = |c: &Cell| {
+        c.is_constrained()
+            || [(10.0, 5.0), (20.0, 20.0), (5.0, 30.0)]
+                .iter()
+                .any(|&(s, k)| {
+                    c.same_as(&Cell::Free {
+                        straight_cm: s,
+                        curved_cm: k,
+                    })
+                })
+    };
+    let mut info = full.info.clone();
+    info.name = "clap host test".into();
+    let mut db = Database::new(info, full.sample_rate_hz);
+    db.units = full
+        .units
+        .iter()
+        .filter(|u| keep(&u.cell))
+        .cloned()
+        .collect();
+    db.spectra = full
+        .spectra
+        .iter()
+        .filter(|s| keep(&s.cell))
+        .take(2)
+        .cloned()
+        .collect();
+    db.write_dir(dir).unwrap();
+}
+
+/// `state` with the persisted user database folder set to `dir`.
+fn with_db_path(state: &serde_json::Value, dir: &std::path::Path) -> serde_json::Value {
+    let mut v = state.clone();
+    v["fields"]["db_path"] =
+        serde_json::Value::String(serde_json::to_string(&dir.to_str().unwrap()).unwrap());
+    v
+}
+
+/// The user sound database (issue 5), chosen through the saved state as when a project that
+/// uses one is opened, rendered offline at 44.1 kHz (the loader's default rate is 48 kHz).
+/// Detects: a folder that is not loaded (the render equals the default database's), loaded
+/// differently from `papier-render --db` (e.g. a database resampled for the wrong rate being
+/// swapped in), a folder that is lost on save or does not play again after reloading, and a
+/// broken folder that silences the plugin or changes its sound instead of leaving the default
+/// database playing (the broken choice itself must be kept in the state).
+#[test]
+fn user_sound_database_from_the_state_plays_and_a_broken_one_keeps_the_default() {
+    let _serial = serial();
+    let sr = 44_100u32;
+    let dir = paths::scratch("clap_user_db");
+    let db_dir = dir.join("db");
+    write_small_db(&db_dir);
+    let broken = dir.join("broken");
+    std::fs::create_dir_all(&broken).unwrap();
+    std::fs::write(
+        broken.join("manifest.toml"),
+        "format = \"papier-sounddb\"\nversion = 1\nname = [oops\n",
+    )
+    .unwrap();
+    let reference = papier_render_equivalence(
+        "clap_user_db_reference",
+        sr,
+        &["--db", db_dir.to_str().unwrap()],
+    );
+    let total = reference.0.len() as u64;
+    let b = bundle();
+    let render = |inst: &mut Instance| {
+        inst.set_offline(true).unwrap();
+        let events = equivalence_events(inst, sr);
+        inst.render(f64::from(sr), 512, &[512, 77, 300], total, &events)
+            .unwrap()
+    };
+
+    let mut a = instance(&b);
+    let initial = split_state(&a.save_state().unwrap());
+    assert_eq!(initial["fields"]["db_path"], "null", "embedded by default");
+    let default = render(&mut a);
+    let p = stereo_peak(&default);
+    assert!(p >= AUDIBLE, "the default database is silent (peak {p:e})");
+
+    let with_db = with_db_path(&initial, &db_dir);
+    let mut u = instance(&b);
+    u.load_state(&join_state(&with_db)).unwrap();
+    let user = render(&mut u);
+    let p = stereo_peak(&user);
+    assert!(p >= AUDIBLE, "the user database is silent (peak {p:e})");
+    assert!(
+        first_difference(&user, &default).is_some(),
+        "the user database sounds exactly like the default one: not loaded"
+    );
+    assert_eq!(
+        first_difference(&user, &reference),
+        None,
+        "the plugin plays the user database differently from papier-render --db"
+    );
+
+    // The folder survives saving after playing, and plays again when that state is reloaded
+    // (with the initial sheet, so that the same performance gives the same samples).
+    let mut saved = split_state(&u.save_state().unwrap());
+    assert_eq!(saved["fields"]["db_path"], with_db["fields"]["db_path"]);
+    saved["fields"]["sheet"] = initial["fields"]["sheet"].clone();
+    let mut w = instance(&b);
+    w.load_state(&join_state(&saved)).unwrap();
+    assert_eq!(
+        first_difference(&render(&mut w), &user),
+        None,
+        "the reloaded project does not play its user database"
+    );
+
+    // A broken folder: the default database plays on, and the choice stays in the project.
+    for bad in [broken.clone(), dir.join("missing")] {
+        let with_bad = with_db_path(&initial, &bad);
+        let mut x = instance(&b);
+        x.load_state(&join_state(&with_bad)).unwrap();
+        let out = render(&mut x);
+        assert_eq!(
+            first_difference(&out, &default),
+            None,
+            "{}: a broken database did not leave the default playing",
+            bad.display()
+        );
+        assert_eq!(
+            split_state(&x.save_state().unwrap())["fields"]["db_path"],
+            with_bad["fields"]["db_path"]
+        );
+    }
 }

@@ -232,6 +232,34 @@ impl ParamValues {
 mod tests {
     use super::*;
 
+    /// `PARAM_IDS` is written by hand; the plugin's parameter list comes from the `#[id]`s of
+    /// `params.rs` through the `Params` derive. Same ids, same order (the order hosts list them
+    /// in), so neither can change without the other.
+    #[test]
+    fn param_ids_match_the_plugin_parameters() {
+        use nice_plug::prelude::Params;
+        let params = crate::params::PapierParams::default();
+        let plugin: Vec<String> = params
+            .param_map()
+            .into_iter()
+            .map(|(id, _, _)| id)
+            .collect();
+        let table: Vec<String> = PARAM_IDS.iter().map(|s| s.to_string()).collect();
+        for id in &plugin {
+            assert!(
+                table.contains(id),
+                "parameter `{id}` of params.rs is missing from PARAM_IDS"
+            );
+        }
+        for id in &table {
+            assert!(
+                plugin.contains(id),
+                "PARAM_IDS lists `{id}`, which params.rs does not declare"
+            );
+        }
+        assert_eq!(plugin, table, "PARAM_IDS is not in the plugin's order");
+    }
+
     #[test]
     fn every_id_is_settable() {
         let mut p = ParamValues::default();
