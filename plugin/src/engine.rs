@@ -179,6 +179,8 @@ impl Engine {
         let mut renderer = Renderer::new(sample_rate_hz, db, params.seed);
         renderer.set_mix(mix_levels(params, 1.0));
         renderer.set_scene(scene(params));
+        // Start at the mix, do not glide to it from 0 dB.
+        renderer.snap_gains();
         let host = match mode {
             SimMode::Lockstep => Host::Lockstep(Lockstep {
                 sim: Box::new(sim),

@@ -426,6 +426,7 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         let mut renderer = Renderer::new(sr, db, params.seed);
         renderer.set_mix(crate::engine::mix_levels(&params, 1.0));
         renderer.set_scene(crate::engine::scene(&params));
+        renderer.snap_gains();
         let played = frame_replay::play(
             path,
             &mut renderer,

@@ -287,7 +287,10 @@ impl Renderer {
         r
     }
 
-    fn snap_gains(&mut self) {
+    /// Jumps the mix gains to their targets (set with [`Self::set_mix`] and the scene) instead
+    /// of gliding there: for a renderer just built, so its first samples already play at the
+    /// mix it was set up with rather than fading from 0 dB. No allocation.
+    pub fn snap_gains(&mut self) {
         for g in self.gains.iter_mut().chain(self.tear_ear_gain.iter_mut()) {
             g.snap();
         }
