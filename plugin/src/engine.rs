@@ -277,6 +277,17 @@ impl Engine {
         self.recorded.iter_mut().flat_map(|v| v.drain(..))
     }
 
+    /// Sets the render path's mix, room and listener to `p` at once (no glide). For
+    /// `activate()`: the engine is built with the values its sheet reflects (those at the last
+    /// deactivation, so that parameter changes made while inactive reach the sheet as
+    /// commands), but the sound must start at the current values, not fade to them.
+    /// No allocation.
+    pub fn start_sound_at(&mut self, p: &ParamValues) {
+        self.renderer.set_mix(mix_levels(p, self.midi_volume));
+        self.renderer.set_scene(scene(p));
+        self.renderer.snap_gains();
+    }
+
     /// The render path (for counters).
     pub fn renderer(&self) -> &Renderer {
         &self.renderer

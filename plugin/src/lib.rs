@@ -207,7 +207,8 @@ impl Plugin for Papier {
             self.meters.clone(),
             self.view.clone(),
         ) {
-            Ok(engine) => {
+            Ok(mut engine) => {
+                engine.start_sound_at(&values);
                 self.engine = Some(engine);
                 self.sample_rate_hz = rate;
                 true
