@@ -263,7 +263,7 @@ impl<'a> PersistentField<'a, DbPath> for Arc<DbLoader> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sounddb::{Cell, Database};
+    use sounddb::Cell;
 
     /// A fresh, empty temporary folder.
     fn temp_dir(name: &str) -> PathBuf {
@@ -289,22 +289,8 @@ mod tests {
                         })
                     })
         };
-        let mut info = full.info.clone();
-        info.name = "loader test".into();
-        let mut db = Database::new(info, full.sample_rate_hz);
-        db.units = full
-            .units
-            .iter()
-            .filter(|u| keep(&u.cell))
-            .cloned()
-            .collect();
-        db.spectra = full
-            .spectra
-            .iter()
-            .filter(|s| keep(&s.cell))
-            .take(2)
-            .cloned()
-            .collect();
+        let mut db = full.subset(keep, 2);
+        db.info.name = "loader test".into();
         db.write_dir(dir).unwrap();
         db.units.len()
     }

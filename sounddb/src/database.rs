@@ -138,6 +138,26 @@ impl Database {
         }
     }
 
+    /// A smaller database with the same description and rate: the units of the cells `keep`
+    /// accepts and the first `max_spectra` of their friction spectra, in manifest order.
+    pub fn subset(&self, keep: impl Fn(&Cell) -> bool, max_spectra: usize) -> Database {
+        let mut db = Database::new(self.info.clone(), self.sample_rate_hz);
+        db.units = self
+            .units
+            .iter()
+            .filter(|u| keep(&u.cell))
+            .cloned()
+            .collect();
+        db.spectra = self
+            .spectra
+            .iter()
+            .filter(|s| keep(&s.cell))
+            .take(max_spectra)
+            .cloned()
+            .collect();
+        db
+    }
+
     /// Loads and validates a database folder.
     pub fn load(dir: &Path) -> Result<(Database, Vec<Warning>), DbError> {
         if !dir.is_dir() {
@@ -787,6 +807,31 @@ pub fn reload(db: &Database) -> Result<(Database, Vec<Warning>), DbError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Breakage detected: a subset that keeps units or spectra of rejected cells, drops those
+    /// of accepted ones, ignores the spectrum cap, or loses the rate and description.
+    #[test]
+    fn subset_keeps_the_accepted_cells_only() {
+        let full = crate::generate::generate(crate::generate::Material::Printer);
+        let clac = |c: &Cell| c.is_constrained();
+        let sub = full.subset(clac, 1);
+        assert_eq!(sub.sample_rate_hz, full.sample_rate_hz);
+        assert_eq!(sub.info.name, full.info.name);
+        let clacs = full
+            .units
+            .iter()
+            .filter(|u| u.cell.is_constrained())
+            .count();
+        assert!(clacs > 0 && clacs < full.units.len());
+        assert_eq!(sub.units.len(), clacs);
+        assert!(sub.units.iter().all(|u| u.cell.is_constrained()));
+        assert_eq!(sub.spectra.len(), 1);
+        assert!(sub.spectra[0].cell.is_constrained());
+        assert_eq!(
+            full.subset(|_| true, usize::MAX).spectra.len(),
+            full.spectra.len()
+        );
+    }
 
     fn small_db() -> Database {
         let mut db = Database::new(

@@ -6,7 +6,8 @@
 //! - [`audio`]: WAV reading and signal checks;
 //! - [`live`]: a host audio thread at real-time pace, for tests that run audio alongside;
 //! - [`xvfb`]: a private virtual X server and the X tools the GUI tests use;
-//! - [`screenshot`]: window screenshots as RGB images.
+//! - [`screenshot`]: window screenshots as RGB images;
+//! - [`small_db`]: the small user sound database the tests cut from a full one.
 
 pub mod audio;
 pub mod clap;
@@ -14,4 +15,5 @@ pub mod clap_gui;
 pub mod live;
 pub mod paths;
 pub mod screenshot;
+pub mod small_db;
 pub mod xvfb;

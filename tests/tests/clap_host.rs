@@ -907,35 +907,9 @@ fn state_save_and_load_while_active_in_real_time_keeps_parameter_values() {
 /// Writes a small valid user sound database into `dir` (the clac cell, three flap cells and two
 /// friction spectra of the embedded database), so it sounds different from the default.
 fn write_small_db(dir: &std::path::Path) {
-    use sounddb::{Cell, Database};
     let (full, _) = papier::render::default_db::embedded_database().unwrap();
-    let keep = |c: &Cell| {
-        c.is_constrained()
-            || [(10.0, 5.0), (20.0, 20.0), (5.0, 30.0)]
-                .iter()
-                .any(|&(s, k)| {
-                    c.same_as(&Cell::Free {
-                        straight_cm: s,
-                        curved_cm: k,
-                    })
-                })
-    };
-    let mut info = full.info.clone();
-    info.name = "clap host test".into();
-    let mut db = Database::new(info, full.sample_rate_hz);
-    db.units = full
-        .units
-        .iter()
-        .filter(|u| keep(&u.cell))
-        .cloned()
-        .collect();
-    db.spectra = full
-        .spectra
-        .iter()
-        .filter(|s| keep(&s.cell))
-        .take(2)
-        .cloned()
-        .collect();
+    let mut db = papier_tests::small_db::from(&full);
+    db.info.name = "clap host test".into();
     db.write_dir(dir).unwrap();
 }
 

@@ -24,32 +24,7 @@ fn temp_dir(name: &str) -> PathBuf {
 
 /// A small valid database folder: 3 flap cells, the clac cell, 2 spectra.
 fn small_db(dir: &Path) -> Database {
-    let full = generate(Material::Printer);
-    let mut db = Database::new(full.info.clone(), 44_100);
-    let keep = |c: &Cell| {
-        c.is_constrained()
-            || [(10.0, 5.0), (20.0, 20.0), (5.0, 30.0)]
-                .iter()
-                .any(|&(s, k)| {
-                    c.same_as(&Cell::Free {
-                        straight_cm: s,
-                        curved_cm: k,
-                    })
-                })
-    };
-    db.units = full
-        .units
-        .iter()
-        .filter(|u| keep(&u.cell))
-        .cloned()
-        .collect();
-    db.spectra = full
-        .spectra
-        .iter()
-        .filter(|s| keep(&s.cell))
-        .take(2)
-        .cloned()
-        .collect();
+    let db = papier_tests::small_db::from(&generate(Material::Printer));
     db.write_dir(dir).unwrap();
     db
 }
