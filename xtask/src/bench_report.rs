@@ -1049,21 +1049,13 @@ fn plot_scenarios(
             .filter_map(|v| v.scenarios.iter().find(|x| x.name == *name).map(|x| (x, v)))
             .map(|(x, v)| (x.median_ms.max(1e-3), x.c_mean.max(1e-4), colour(v)))
             .collect();
-        let (xmin, xmax) = pts
-            .iter()
-            .fold((f64::MAX, 0.0f64), |a, p| (a.0.min(p.0), a.1.max(p.0)));
-        let (ymin, ymax) = pts
-            .iter()
-            .fold((f64::MAX, 0.0f64), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+        let (xs, ys) = log_axes(pts.iter().map(|p| (p.0, p.1)));
         let mut chart = ChartBuilder::on(panel)
             .caption(*name, ("sans-serif", 16))
             .margin(8)
             .x_label_area_size(35)
             .y_label_area_size(55)
-            .build_cartesian_2d(
-                (xmin * 0.7..xmax * 1.4).log_scale(),
-                (ymin * 0.7..ymax * 1.4).log_scale(),
-            )?;
+            .build_cartesian_2d(xs.log_scale(), ys.log_scale())?;
         chart
             .configure_mesh()
             .x_desc("median ms")
@@ -1078,6 +1070,16 @@ fn plot_scenarios(
     }
     root.present()?;
     Ok(())
+}
+
+/// Axis ranges of a log–log plot that show all `points` (x, y > 0) with a margin.
+fn log_axes(
+    points: impl Iterator<Item = (f64, f64)>,
+) -> (std::ops::Range<f64>, std::ops::Range<f64>) {
+    let (xmin, xmax, ymin, ymax) = points.fold((f64::MAX, 0.0f64, f64::MAX, 0.0f64), |a, p| {
+        (a.0.min(p.0), a.1.max(p.0), a.2.min(p.1), a.3.max(p.1))
+    });
+    (xmin * 0.7..xmax * 1.4, ymin * 0.7..ymax * 1.4)
 }
 
 fn plot(
@@ -1101,12 +1103,7 @@ fn plot(
             fine,
         )))
         .collect();
-    let (xmin, xmax) = pts
-        .iter()
-        .fold((f64::MAX, 0.0f64), |a, p| (a.0.min(p.0), a.1.max(p.0)));
-    let (ymin, ymax) = pts
-        .iter()
-        .fold((f64::MAX, 0.0f64), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+    let (xs, ys) = log_axes(pts.iter().map(|p| (p.0, p.1)));
     let mut chart = ChartBuilder::on(&left)
         .caption(
             "Run time against length error (mean over scenarios; green: with the geometry layer)",
@@ -1115,10 +1112,7 @@ fn plot(
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(70)
-        .build_cartesian_2d(
-            (xmin * 0.7..xmax * 1.4).log_scale(),
-            (ymin * 0.7..ymax * 1.4).log_scale(),
-        )?;
+        .build_cartesian_2d(xs.log_scale(), ys.log_scale())?;
     chart
         .configure_mesh()
         .x_desc("median ms per frame (200 frames/s)")
