@@ -371,17 +371,26 @@ impl Instance {
         ext.load(&h, &mut r).map_err(|e| e.to_string())
     }
 
-    /// Activates without processing (see [`Instance::deactivate`]).
-    pub fn activate(&mut self, sample_rate: f64, max_block: u32) -> Result<(), String> {
+    /// Activates the plugin as a host does (blocks of 1 to `max_block` samples) and returns
+    /// its audio processor, not yet started.
+    fn start(
+        &mut self,
+        sample_rate: f64,
+        max_block: u32,
+    ) -> Result<StoppedPluginAudioProcessor<TestHost>, String> {
         let cfg = PluginAudioConfiguration {
             sample_rate,
             min_frames_count: 1,
             max_frames_count: max_block,
         };
-        let stopped = self
-            .inst
+        self.inst
             .activate(|_, _| (), cfg)
-            .map_err(|e| format!("activate: {e:?}"))?;
+            .map_err(|e| format!("activate: {e:?}"))
+    }
+
+    /// Activates without processing (see [`Instance::deactivate`]).
+    pub fn activate(&mut self, sample_rate: f64, max_block: u32) -> Result<(), String> {
+        let stopped = self.start(sample_rate, max_block)?;
         self.active = Some(stopped);
         Ok(())
     }
@@ -468,15 +477,7 @@ impl Instance {
         total: u64,
         events: &[HostEvent],
     ) -> Result<(Vec<f32>, Vec<f32>), String> {
-        let cfg = PluginAudioConfiguration {
-            sample_rate,
-            min_frames_count: 1,
-            max_frames_count: max_block,
-        };
-        let stopped = self
-            .inst
-            .activate(|_, _| (), cfg)
-            .map_err(|e| format!("activate: {e:?}"))?;
+        let stopped = self.start(sample_rate, max_block)?;
         let sizes: Vec<u32> = if block_sizes.is_empty() {
             vec![max_block]
         } else {
@@ -520,15 +521,7 @@ impl Instance {
         events: &[HostEvent],
         main: impl FnOnce(&mut Instance, &AudioThread) -> R,
     ) -> Result<(R, Vec<f32>, Vec<f32>), String> {
-        let cfg = PluginAudioConfiguration {
-            sample_rate,
-            min_frames_count: 1,
-            max_frames_count: max_block,
-        };
-        let stopped = self
-            .inst
-            .activate(|_, _| (), cfg)
-            .map_err(|e| format!("activate: {e:?}"))?;
+        let stopped = self.start(sample_rate, max_block)?;
         let ctl = AudioThread {
             target: AtomicU64::new(0),
             done: AtomicU64::new(0),
