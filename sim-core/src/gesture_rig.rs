@@ -70,11 +70,22 @@
 //! **Crumple cap.** Without sheet–sheet contact (a later issue) the squeeze must stop before the
 //! sheet passes through itself; the seeds capped their crumpling for the same reason (no
 //! self-collision, point handles only: T 1245, T 2014, T 2076) and digest-tearing §4.3 caps
-//! the squeeze at 0.6. k = 0.6 leaves the ring of hands at 40 % of the sheet's size at c = 1.
-//! Measured (`tests/self_contact.rs`): the cap bounds the squeeze but does **not** keep the
-//! sheet from passing through itself — the point hands buckle the sheet into folds that cross
-//! within the first 50–75 ms of a squeeze, up to ≈ 1 cm deep, on every size. Only sheet–sheet
-//! contact can prevent that; the test guards the measured bound meanwhile.
+//! the squeeze at 0.6. Here k = 0.6 bounds the squeeze (the ring of hands at 40 % of the
+//! sheet's size at c = 1), but a fixed bound does not keep the sheet from passing through
+//! itself — measured (`tests/self_contact.rs`): the point hands buckle the sheet into folds
+//! that crossed in 19 of 20 runs, up to ≈ 1 cm deep. So the cap also follows the sheet
+//! (impl. choice): every frame of a squeeze the sim measures the sheet's closest approach to
+//! itself ([`crate::self_proximity`]) and [`GestureRig::limit_squeeze`] slows the squeeze
+//! linearly from [`SQUEEZE_SLOW_M`] down to [`SQUEEZE_SLOWEST`] of its speed at
+//! [`SQUEEZE_STOP_M`], where it stops (the limit stays until the command falls below it), and
+//! backs off by one frame's travel per frame below [`SQUEEZE_BACK_OFF_M`]. The crumple value
+//! slews no faster than the hands can follow, so stopping the value stops the hands. Snap-
+//! through buckles still move a fold ~1 cm per frame, faster than any stop distance; the sim
+//! undoes such a frame (`Sim::undo_pass_through`: sheet and hands back to the frame's start,
+//! the sheet stopped, the squeeze backing off). With both, none of the test's 20 runs
+//! crosses; the squeeze stops at 0.29–1.00 of its range, and where other hands keep pushing
+//! the sheet into itself it stands still (up to 1.6 s in those runs; after
+//! [`crate::sim::MAX_UNDO_STREAK`] undone frames one goes through as simulated).
 //!
 //! **Obstacles.** Targets are moved out of the table, wall and floor (the whole held patch);
 //! a hand that holds paper inside an obstacle comes out at its travel speed, never by a jump,
@@ -93,6 +104,7 @@ use crate::control::{GestureParam, GrabSlot};
 use crate::handles::{HandDef, HandState, HandleDef, MAX_HAND_VERTICES, Pose};
 use crate::math::{Rot, V2, V3};
 use crate::sheet::Sheet;
+use crate::sim::DEFAULT_FRAME_RATE_HZ;
 
 /// Slot hands: back, front, left, right, and the four corners.
 pub const NUM_SLOT_HANDS: usize = 8;
@@ -102,6 +114,16 @@ pub const NUM_CRUMPLE_HANDS: usize = 8;
 pub const NUM_HANDS: usize = NUM_SLOT_HANDS + NUM_CRUMPLE_HANDS;
 /// Crumple squeeze cap k: at c = 1 the hands are at (1 − k) of their home distance.
 pub const CRUMPLE_CAP: f64 = 0.6;
+/// Closest approach of the sheet to itself at which the squeeze stops, metres.
+pub const SQUEEZE_STOP_M: f64 = 0.004;
+/// Closest approach of the sheet to itself below which the squeeze slows down, metres.
+pub const SQUEEZE_SLOW_M: f64 = 0.02;
+/// Slowest squeeze near the stop, as a fraction of the hands' speed.
+pub const SQUEEZE_SLOWEST: f64 = 0.1;
+/// Closest approach below which the crumple hands back off, metres.
+pub const SQUEEZE_BACK_OFF_M: f64 = 0.002;
+/// Reach of the closest-approach query, metres (pairs farther apart are not measured).
+pub const SQUEEZE_REACH_M: f64 = SQUEEZE_SLOW_M;
 /// Tilt of a crumple hand's frame at c = 1, radians.
 pub const CRUMPLE_TILT_RAD: f64 = 0.6;
 /// Per-frame hand travel clamp as a fraction of L_paper, at the default frame rate (it is a
@@ -214,6 +236,22 @@ pub struct RigState {
     pub grab_seq: [u64; NUM_HANDS],
     /// Next grab sequence number.
     pub next_seq: u64,
+    /// Squeeze limit: the crumple value at which the sheet came close to itself (1 = none
+    /// found; see "Crumple cap" in the module doc).
+    #[serde(default = "no_squeeze_limit")]
+    pub crumple_limit: f64,
+    /// Speed of the squeeze as a fraction of the hands' speed (it slows down as the sheet
+    /// approaches itself).
+    #[serde(default = "no_squeeze_limit")]
+    pub crumple_speed: f64,
+    /// Frames in a row whose motion was undone because it passed the sheet through itself
+    /// (`Sim::undo_pass_through`).
+    #[serde(default)]
+    pub undo_streak: u32,
+}
+
+fn no_squeeze_limit() -> f64 {
+    1.0
 }
 
 impl Default for RigState {
@@ -234,6 +272,9 @@ impl Default for RigState {
             shake_phase_rad: 0.0,
             grab_seq: [0; NUM_HANDS],
             next_seq: 0,
+            crumple_limit: no_squeeze_limit(),
+            crumple_speed: no_squeeze_limit(),
+            undo_streak: 0,
         }
     }
 }
@@ -443,7 +484,7 @@ impl GestureRig {
         let shaking = any_active && self.state.smoothed[GestureParam::ShakeDepth.index()] > 0.0;
         let settling = GestureParam::ALL
             .iter()
-            .any(|g| f64::from(self.state.commanded[g.index()]) != self.state.smoothed[g.index()]);
+            .any(|&g| self.slew_target(g) != self.state.smoothed[g.index()]);
         let crumple_pending = (self.state.commanded[GestureParam::Crumple.index()] > 0.0)
             != self.state.crumple_active;
         shaking || settling || crumple_pending || self.ownership_dirty
@@ -515,21 +556,93 @@ impl GestureRig {
         moved
     }
 
-    fn slew_gestures(&mut self, clamp_m: f64, max_angle: f64) {
+    /// The value a gesture slews towards: the commanded one, the crumple squeeze no further
+    /// than its limit.
+    fn slew_target(&self, g: GestureParam) -> f64 {
+        let v = f64::from(self.state.commanded[g.index()]);
+        if g == GestureParam::Crumple {
+            v.min(self.state.crumple_limit)
+        } else {
+            v
+        }
+    }
+
+    /// Largest change of a gesture value per frame (its slew rate) for the per-frame travel
+    /// and rotation clamps.
+    fn slew_rate(&self, g: GestureParam, clamp_m: f64, max_angle: f64) -> f64 {
         let (w, l) = (self.width_m, self.length_m);
+        match g {
+            GestureParam::Slide => 4.0 * clamp_m / self.l_paper(),
+            GestureParam::Lift => 2.0 * clamp_m / l,
+            GestureParam::Twist => {
+                (max_angle / std::f64::consts::PI).min(clamp_m / (std::f64::consts::PI * 0.5 * w))
+            }
+            GestureParam::Crumple => self.crumple_rate(clamp_m),
+            GestureParam::ShakeDepth => clamp_m / (SHAKE_AMPLITUDE_FRAC * l),
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// Slew rate of the crumple value: the fastest crumple hand's target moves no faster than
+    /// the hands travel (their speed, within the travel clamp), so the hands keep up with the
+    /// value and stopping the value stops them (see "Crumple cap" in the module doc).
+    fn crumple_rate(&self, clamp_m: f64) -> f64 {
+        let frame_s = clamp_m / (TRAVEL_CLAMP_FRAC * self.l_paper() * DEFAULT_FRAME_RATE_HZ);
+        let step_m = clamp_m.min(CRUMPLE_SPEED_M_S * frame_s);
         let lp = self.l_paper();
+        // |∂target/∂c| of each crumple hand (see `target_pose`).
+        let reach_m = (0..NUM_CRUMPLE_HANDS)
+            .map(|j| {
+                let home = self.info[NUM_SLOT_HANDS + j].def.home_ref;
+                let jit = self.state.crumple_jitter[j];
+                CRUMPLE_CAP * home.norm()
+                    + lp * jit[0].hypot(jit[1])
+                    + 0.1 * self.length_m * jit[2].abs()
+            })
+            .fold(0.0, f64::max);
+        if reach_m > 0.0 {
+            self.state.crumple_speed * step_m / reach_m
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// True while the crumple hands squeeze or are about to (the sim then measures the
+    /// sheet's closest approach to itself for [`Self::limit_squeeze`]).
+    pub fn is_squeezing(&self) -> bool {
+        self.state.crumple_active || self.state.commanded[GestureParam::Crumple.index()] > 0.0
+    }
+
+    /// Caps the squeeze where the sheet comes close to itself (see "Crumple cap" in the module
+    /// doc): `closest_m` is the sheet's closest approach to itself this frame
+    /// ([`crate::self_proximity`]). Below [`SQUEEZE_BACK_OFF_M`] the hands back off by one
+    /// frame's travel, below [`SQUEEZE_STOP_M`] they stop; a commanded value below the limit
+    /// releases it (the next squeeze goes on until the sheet comes close again).
+    pub fn limit_squeeze(&mut self, closest_m: f64, frame_scale: f64) {
+        let i = GestureParam::Crumple.index();
+        let c = self.state.smoothed[i];
+        self.state.crumple_speed = ((closest_m - SQUEEZE_STOP_M)
+            / (SQUEEZE_SLOW_M - SQUEEZE_STOP_M))
+            .clamp(SQUEEZE_SLOWEST, 1.0);
+        if f64::from(self.state.commanded[i]) < self.state.crumple_limit
+            && closest_m >= SQUEEZE_STOP_M
+        {
+            self.state.crumple_limit = 1.0;
+        }
+        if closest_m < SQUEEZE_BACK_OFF_M {
+            let clamp_m = TRAVEL_CLAMP_FRAC * self.l_paper() * frame_scale;
+            let rate = self.slew_rate(GestureParam::Crumple, clamp_m, 0.0);
+            self.state.crumple_limit = (c - rate).max(0.0);
+        } else if closest_m < SQUEEZE_STOP_M {
+            self.state.crumple_limit = self.state.crumple_limit.min(c);
+        }
+    }
+
+    fn slew_gestures(&mut self, clamp_m: f64, max_angle: f64) {
         for gp in GestureParam::ALL {
             let i = gp.index();
-            let target = f64::from(self.state.commanded[i]);
-            let rate = match gp {
-                GestureParam::Slide => 4.0 * clamp_m / lp,
-                GestureParam::Lift => 2.0 * clamp_m / l,
-                GestureParam::Twist => (max_angle / std::f64::consts::PI)
-                    .min(clamp_m / (std::f64::consts::PI * 0.5 * w)),
-                GestureParam::Crumple => clamp_m / (CRUMPLE_CAP * 0.5 * lp),
-                GestureParam::ShakeDepth => clamp_m / (SHAKE_AMPLITUDE_FRAC * l),
-                _ => f64::INFINITY,
-            };
+            let target = self.slew_target(gp);
+            let rate = self.slew_rate(gp, clamp_m, max_angle);
             let cur = self.state.smoothed[i];
             let d = target - cur;
             self.state.smoothed[i] = if d.abs() <= rate {
@@ -763,6 +876,14 @@ impl GestureRig {
         for &(v, k, j) in &self.ownership {
             fixed[v as usize] = true;
             target[v as usize] = self.state.hands[k as usize].held_position(j as usize, s);
+        }
+    }
+
+    /// Takes back this frame's hand motion (the sim undid the frame: see
+    /// `Sim::undo_pass_through`): every hand returns to its pose at the start of the frame.
+    pub fn undo_frame_motion(&mut self) {
+        for h in &mut self.state.hands {
+            h.pose = h.prev_pose;
         }
     }
 
@@ -1004,5 +1125,88 @@ mod tests {
         assert!(
             (h.pose.pos() - h.prev_pose.pos()).norm() <= TRAVEL_CLAMP_FRAC * sheet.length_m + 1e-12
         );
+    }
+
+    /// The squeeze limit: far from itself the squeeze runs at full speed; within
+    /// [`SQUEEZE_SLOW_M`] it slows; below [`SQUEEZE_STOP_M`] it stops where it is (is_moving
+    /// turns false: the sheet may sleep); below [`SQUEEZE_BACK_OFF_M`] it backs off; a
+    /// commanded value under the limit releases it once the sheet is clear again.
+    #[test]
+    fn the_squeeze_slows_stops_backs_off_and_is_released() {
+        let (sheet, mut rig, obs, mut rng) = setup();
+        let c = |rig: &GestureRig| rig.state.smoothed[GestureParam::Crumple.index()];
+        rig.set_gesture(GestureParam::Crumple, 1.0);
+        let step = |rig: &mut GestureRig, rng: &mut rand_pcg::Pcg32, closest_m: f64| {
+            rig.limit_squeeze(closest_m, 1.0);
+            let before = rig.state.smoothed[GestureParam::Crumple.index()];
+            rig.advance_frame(0.005, 1.0, &sheet.sp.pos, &obs, rng);
+            rig.state.smoothed[GestureParam::Crumple.index()] - before
+        };
+        let full = step(&mut rig, &mut rng, f64::INFINITY);
+        assert!(full > 0.0);
+        let full = step(&mut rig, &mut rng, f64::INFINITY);
+        let mid = 0.5 * (SQUEEZE_SLOW_M + SQUEEZE_STOP_M);
+        let slow = step(&mut rig, &mut rng, mid);
+        assert!((slow / full - 0.5).abs() < 1e-9, "{slow} vs {full}");
+        let near = step(&mut rig, &mut rng, SQUEEZE_STOP_M + 1e-4);
+        assert!(
+            (near / full - SQUEEZE_SLOWEST).abs() < 1e-9,
+            "{near} vs {full}"
+        );
+        let held = c(&rig);
+        assert_eq!(
+            step(
+                &mut rig,
+                &mut rng,
+                0.5 * (SQUEEZE_STOP_M + SQUEEZE_BACK_OFF_M)
+            ),
+            0.0
+        );
+        assert_eq!(rig.state.crumple_limit, held);
+        assert!(
+            !GestureParam::ALL
+                .iter()
+                .any(|&g| rig.slew_target(g) != rig.state.smoothed[g.index()])
+        );
+        // Clear again but still commanded 1: the limit stays (no restart against the fold).
+        assert_eq!(step(&mut rig, &mut rng, f64::INFINITY), 0.0);
+        let back = step(&mut rig, &mut rng, 0.0);
+        assert!(back < 0.0 && c(&rig) < held, "{back}");
+        // Lowering the command under the limit releases it; raising it squeezes again.
+        let lowered = (0.5 * rig.state.crumple_limit) as f32;
+        rig.set_gesture(GestureParam::Crumple, lowered);
+        for _ in 0..100 {
+            step(&mut rig, &mut rng, f64::INFINITY);
+        }
+        assert_eq!(rig.state.crumple_limit, 1.0);
+        assert_eq!(c(&rig), f64::from(lowered));
+        rig.set_gesture(GestureParam::Crumple, 1.0);
+        assert!(step(&mut rig, &mut rng, f64::INFINITY) > 0.0);
+    }
+
+    /// The crumple value moves no faster than the hands can follow: the fastest crumple
+    /// hand's target moves at most its speed per frame, so every hand keeps up.
+    #[test]
+    fn crumple_hands_keep_up_with_the_squeeze() {
+        let (sheet, mut rig, obs, mut rng) = setup();
+        rig.set_gesture(GestureParam::Crumple, 1.0);
+        let mut prev: Option<Vec<V3>> = None;
+        for _ in 0..150 {
+            rig.advance_frame(0.005, 1.0, &sheet.sp.pos, &obs, &mut rng);
+            let now: Vec<V3> = (NUM_SLOT_HANDS..NUM_HANDS)
+                .map(|k| rig.target_pose(k).pos())
+                .collect();
+            if let Some(prev) = &prev {
+                for (a, b) in prev.iter().zip(&now) {
+                    assert!((a - b).norm() <= CRUMPLE_SPEED_M_S * 0.005 + 1e-9);
+                }
+            }
+            for k in NUM_SLOT_HANDS..NUM_HANDS {
+                let lag = (rig.target_pose(k).pos() - rig.state.hands[k].pose.pos()).norm();
+                assert!(lag < 1e-9, "hand {k} lags {lag} m");
+            }
+            prev = Some(now);
+        }
+        assert_eq!(rig.state.smoothed[GestureParam::Crumple.index()], 1.0);
     }
 }

@@ -46,6 +46,7 @@ pub mod scenario;
 pub mod scenario_run;
 pub mod script;
 pub mod script_runner;
+pub mod self_proximity;
 pub mod sheet;
 pub mod sim;
 pub mod sound_analysis;

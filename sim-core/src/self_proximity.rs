@@ -1,0 +1,250 @@
+//! # Self-proximity: how close the sheet comes to itself
+//!
+//! The sim has no sheet–sheet contact yet (a later issue). The seeds had none either and capped
+//! their crumpling before the sheet could pass through itself (T 1245, T 2014, T 2076;
+//! digest-tearing §4.3). A fixed cap on the squeeze does not do that here (measured in
+//! `tests/self_contact.rs`: point hands buckle the sheet into folds that cross within 50–75 ms),
+//! so the gesture rig caps the squeeze where the sheet *actually* comes close to itself: this
+//! module measures that closest approach each frame while the crumple hands squeeze.
+//!
+//! **Measure.** The smallest 3D distance between two triangles of S_P that share no vertex
+//! (triangles that share one touch by construction); 0 if two of them intersect. A folded
+//! layer can only reach another part of the sheet through such a pair, so the measure falls
+//! towards 0 before any pass-through — provided it is sampled faster than layers approach
+//! (the rig stops at several millimetres, far more than a frame's travel of a fold).
+//!
+//! **Algorithm.** Broad phase: sort and sweep of the triangles' axis-aligned boxes along x,
+//! inflated by the query reach (pairs farther apart than the reach are not measured).
+//! Narrow phase: parry3d's GJK distance between the two triangles, in coordinates relative to
+//! the mesh centroid (f32 keeps ~10 nm there, far below the millimetre thresholds). On a
+//! sheet that is nowhere folded over, only near neighbours survive the broad phase. All
+//! buffers are kept between calls: the steady state does not allocate.
+
+use parry3d::math::{Pose, Vector};
+use parry3d::query::{distance, intersection_test};
+use parry3d::shape::Triangle;
+
+use crate::math::V3;
+use crate::sheet::physical::PhysMesh;
+
+/// Reusable buffers of the closest-approach query.
+#[derive(Clone, Debug, Default)]
+pub struct SelfProximity {
+    /// Per triangle: box min and max (inflated by half the reach).
+    boxes: Vec<(V3, V3)>,
+    /// Triangle indices sorted by their box's lower x.
+    order: Vec<u32>,
+}
+
+impl SelfProximity {
+    /// Empty buffers; they grow to the mesh on the first query.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Buffers for meshes of up to `triangles` triangles (no allocation below that).
+    pub fn with_capacity(triangles: usize) -> Self {
+        Self {
+            boxes: Vec::with_capacity(triangles),
+            order: Vec::with_capacity(triangles),
+        }
+    }
+
+    /// Smallest distance between two vertex-disjoint triangles of `sp`, metres; `f64::INFINITY`
+    /// if no such pair is within `reach_m`. 0 if two of them intersect.
+    pub fn closest_approach_m(&mut self, sp: &PhysMesh, reach_m: f64) -> f64 {
+        let mut best = f64::INFINITY;
+        self.sweep(sp, reach_m, |a, b| {
+            let d = distance(&Pose::IDENTITY, a, &Pose::IDENTITY, b)
+                .map_or(f64::INFINITY, |d| f64::from(d.distance));
+            best = best.min(d);
+            false
+        });
+        if best > reach_m { f64::INFINITY } else { best }
+    }
+
+    /// True if two vertex-disjoint triangles of `sp` intersect (parry3d's GJK intersection
+    /// test; a pair touching within f32 rounding may count). Stops at the first such pair.
+    pub fn any_crossing(&mut self, sp: &PhysMesh) -> bool {
+        self.sweep(sp, 0.0, |a, b| {
+            intersection_test(&Pose::IDENTITY, a, &Pose::IDENTITY, b).is_ok_and(|r| r.intersecting)
+        })
+    }
+
+    /// Broad phase: calls `visit` for every vertex-disjoint pair of triangles whose boxes,
+    /// inflated by `reach_m`, overlap, until it returns true; returns whether one did.
+    fn sweep(
+        &mut self,
+        sp: &PhysMesh,
+        reach_m: f64,
+        mut visit: impl FnMut(&Triangle, &Triangle) -> bool,
+    ) -> bool {
+        let nt = sp.triangles.len();
+        if nt == 0 || sp.pos.is_empty() {
+            return false;
+        }
+        let centre = sp.pos.iter().sum::<V3>() / sp.pos.len() as f64;
+        let half = V3::repeat(0.5 * reach_m.max(0.0));
+        self.boxes.clear();
+        self.boxes.extend(sp.triangles.iter().map(|t| {
+            let [a, b, c] = t.map(|v| sp.pos[v as usize]);
+            (a.inf(&b).inf(&c) - half, a.sup(&b).sup(&c) + half)
+        }));
+        self.order.clear();
+        self.order.extend(0..nt as u32);
+        let boxes = &self.boxes;
+        self.order
+            .sort_unstable_by(|&a, &b| boxes[a as usize].0.x.total_cmp(&boxes[b as usize].0.x));
+        let tri = |t: u32| {
+            let p = sp.triangles[t as usize].map(|v| {
+                let d = sp.pos[v as usize] - centre;
+                Vector::new(d.x as f32, d.y as f32, d.z as f32)
+            });
+            Triangle::new(p[0], p[1], p[2])
+        };
+        for (i, &a) in self.order.iter().enumerate() {
+            let (la, ha) = boxes[a as usize];
+            let ta = sp.triangles[a as usize];
+            for &b in &self.order[i + 1..] {
+                let (lb, hb) = boxes[b as usize];
+                if lb.x > ha.x {
+                    break;
+                }
+                if hb.y < la.y || lb.y > ha.y || hb.z < la.z || lb.z > ha.z {
+                    continue;
+                }
+                let tb = sp.triangles[b as usize];
+                if ta.iter().any(|v| tb.contains(v)) {
+                    continue;
+                }
+                if visit(&tri(a), &tri(b)) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::SheetSize;
+    use crate::sheet::{MeshConfig, Sheet};
+
+    fn flat() -> PhysMesh {
+        Sheet::new_flat(SheetSize::Sq10, MeshConfig::default(), 0.0, 0.1).sp
+    }
+
+    /// A flat sheet is nowhere close to itself within less than a mesh spacing; the closest
+    /// vertex-disjoint triangles of the lattice are a triangle height apart.
+    #[test]
+    fn a_flat_sheet_keeps_its_distance() {
+        let sp = flat();
+        let mut q = SelfProximity::new();
+        assert_eq!(q.closest_approach_m(&sp, 0.005), f64::INFINITY);
+        let d = q.closest_approach_m(&sp, 1.0);
+        let min_edge = sp
+            .edge_rest_len_m
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        let max_edge = sp.edge_rest_len_m.iter().copied().fold(0.0, f64::max);
+        assert!(
+            d > 0.5 * min_edge && d <= max_edge,
+            "{d} vs edges {min_edge}–{max_edge}"
+        );
+        assert_eq!(d, brute_force_m(&sp));
+    }
+
+    /// Brute force over every vertex-disjoint pair (the reference for the broad phase).
+    fn brute_force_m(sp: &PhysMesh) -> f64 {
+        let centre = sp.pos.iter().sum::<V3>() / sp.pos.len() as f64;
+        let tri = |t: usize| {
+            let p = sp.triangles[t].map(|v| {
+                let d = sp.pos[v as usize] - centre;
+                Vector::new(d.x as f32, d.y as f32, d.z as f32)
+            });
+            Triangle::new(p[0], p[1], p[2])
+        };
+        let mut best = f64::INFINITY;
+        for a in 0..sp.triangles.len() {
+            for b in a + 1..sp.triangles.len() {
+                if sp.triangles[a].iter().any(|v| sp.triangles[b].contains(v)) {
+                    continue;
+                }
+                let d = distance(&Pose::IDENTITY, &tri(a), &Pose::IDENTITY, &tri(b)).unwrap();
+                best = best.min(f64::from(d.distance));
+            }
+        }
+        best
+    }
+
+    /// A sheet crumpled by the sim (physics only): at
+    /// several frames the swept closest approach equals the brute-force minimum over all
+    /// pairs whenever that is within reach (the sweep misses no pair), else it is ∞.
+    #[test]
+    fn the_sweep_finds_the_brute_force_minimum_on_a_crumpled_sheet() {
+        use crate::control::{Command, GestureParam};
+        use crate::sim::{FrameOutput, Sim, SimConfig};
+        let mut cfg = SimConfig {
+            size: SheetSize::Sq10,
+            ..SimConfig::default()
+        };
+        cfg.geometry.enabled = false;
+        let mut sim = Sim::new(cfg);
+        sim.apply(Command::Gesture {
+            param: GestureParam::Crumple,
+            value: 1.0,
+        });
+        let mut out = FrameOutput::default();
+        let mut q = SelfProximity::new();
+        let mut within = 0;
+        for f in 1..=60 {
+            sim.step(&mut out);
+            if f % 10 == 0 {
+                let sp = &sim.sheet().sp;
+                let reach_m = 0.02;
+                let brute = brute_force_m(sp);
+                let swept = q.closest_approach_m(sp, reach_m);
+                if brute <= reach_m {
+                    within += 1;
+                    assert_eq!(swept, brute, "frame {f}");
+                } else {
+                    assert_eq!(swept, f64::INFINITY, "frame {f}: brute {brute}");
+                }
+            }
+        }
+        assert!(
+            within > 0,
+            "the crumple never came within reach: the test checks nothing"
+        );
+    }
+
+    /// A triangle moved onto a far part of the sheet and tilted through it: the closest
+    /// approach is 0 and `any_crossing` finds it; the flat sheet has none.
+    #[test]
+    fn a_triangle_through_the_sheet_is_a_crossing() {
+        let mut sp = flat();
+        let mut q = SelfProximity::new();
+        assert!(!q.any_crossing(&sp));
+        // The triangle nearest the centre goes to straddle the sheet 3 cm away.
+        let centroid = |sp: &PhysMesh, t: usize| {
+            sp.triangles[t]
+                .iter()
+                .map(|&v| sp.pos[v as usize])
+                .sum::<V3>()
+                / 3.0
+        };
+        let t = (0..sp.triangles.len())
+            .min_by(|&a, &b| centroid(&sp, a).norm().total_cmp(&centroid(&sp, b).norm()))
+            .unwrap();
+        let c = V3::new(0.03, 0.0, 0.0);
+        let [a, b, d] = sp.triangles[t].map(|v| v as usize);
+        sp.pos[a] = c + V3::new(-0.003, -0.003, 0.002);
+        sp.pos[b] = c + V3::new(0.004, -0.002, -0.002);
+        sp.pos[d] = c + V3::new(-0.001, 0.004, -0.002);
+        assert_eq!(q.closest_approach_m(&sp, 0.01), 0.0);
+        assert!(q.any_crossing(&sp));
+    }
+}
