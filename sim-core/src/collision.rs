@@ -30,6 +30,16 @@
 //! is exactly μλ against the slip. The slip speed per vertex (tangential speed relative to
 //! the obstacle, m/s) is what the friction sound uses (T 1770).
 //!
+//! **Depth limit.** A penalty yields in proportion to the force: a corner pressed into the
+//! table by a sheet that hands twist or pull down (seconds-long forces of newtons, far above
+//! its weight) sank up to 6 mm (measured in `c2_moebius_twist`). Beyond [`MAX_PENETRATION_M`]
+//! the penalty is [`HARD_CONTACT_FACTOR`] times stiffer (inside the implicit step's energy, so
+//! the solver lets the sheet give way elsewhere), and after every substep a free vertex still
+//! deeper is put back at that depth and loses the normal velocity with which it moves into
+//! the plane (relative to a moving plane): the table is rigid. Shallower contacts keep the
+//! penalty's compliance, whose depth is the normal force that friction uses. Held vertices follow their hands (whose targets are kept out of the
+//! planes by the gesture rig).
+//!
 //! **Moving obstacles.** A command that moves or switches on a plane must not teleport it
 //! through the sheet (a penalty would then explode). Each obstacle's *effective* plane offset
 //! eases towards the configured one at [`OBSTACLE_EASE_SPEED_M_S`]; a plane that is switched on
@@ -49,6 +59,11 @@ pub const OBSTACLE_EASE_SPEED_M_S: f64 = 0.5;
 /// Skin: penalty activation distance, metres (`g / ω_c²`).
 pub const CONTACT_SKIN_M: f64 =
     crate::math::GRAVITY_M_S2 / (CONTACT_OMEGA_RAD_S * CONTACT_OMEGA_RAD_S);
+/// Depth beyond which the contact penalty stiffens, and deepest a free vertex may sink into an
+/// obstacle after a substep, metres (see "Depth limit").
+pub const MAX_PENETRATION_M: f64 = 5e-4;
+/// Stiffness of the contact penalty beyond [`MAX_PENETRATION_M`], as a multiple of k_i.
+pub const HARD_CONTACT_FACTOR: f64 = 100.0;
 /// Distance under which a vertex counts as touching an obstacle (for the contact report), m.
 pub const TOUCH_DIST_M: f64 = 4.0 * CONTACT_SKIN_M + 1e-4;
 
@@ -178,6 +193,28 @@ impl Obstacles {
                 p.offset_m += min_d - 2.0 * CONTACT_SKIN_M;
             }
         }
+    }
+
+    /// Puts every free vertex deeper than [`MAX_PENETRATION_M`] inside an active plane back at
+    /// that depth and removes its velocity into the plane (see "Depth limit" in the module
+    /// doc). `fixed` marks held vertices (left alone). Returns the number of vertices moved.
+    pub fn limit_penetration(&self, pos: &mut [V3], vel: &mut [V3], fixed: &[bool]) -> usize {
+        let mut moved = 0;
+        for pl in self.planes.iter().filter(|p| p.active) {
+            for ((x, v), &held) in pos.iter_mut().zip(vel.iter_mut()).zip(fixed) {
+                let d = pl.distance(x);
+                if held || d >= -MAX_PENETRATION_M {
+                    continue;
+                }
+                *x += pl.normal * (-MAX_PENETRATION_M - d);
+                let vn = v.dot(&pl.normal) - pl.speed_m_s;
+                if vn < 0.0 {
+                    *v -= pl.normal * vn;
+                }
+                moved += 1;
+            }
+        }
+        moved
     }
 
     /// Moves each effective plane towards its target by at most the ease speed × `dt_s`.
@@ -331,5 +368,28 @@ mod tests {
         let d = 1e-9 * e;
         let fd = (friction_f0(u + d, e) - friction_f0(u - d, e)) / (2.0 * d);
         assert!((fd - friction_f1(u / e)).abs() < 1e-6);
+    }
+
+    /// A free vertex 6 mm inside the table comes back to the depth limit and stops moving
+    /// into it (keeping its tangential velocity); a vertex within the limit, a held vertex and
+    /// a vertex above the table are left alone.
+    #[test]
+    fn a_deep_free_vertex_is_put_back_at_the_depth_limit() {
+        let o = Obstacles::new(&RoomConfig::default());
+        let top = o.planes[1].offset_m;
+        let mut pos = vec![
+            V3::new(0.0, 0.0, top - 0.006),
+            V3::new(0.1, 0.0, top - 0.0002),
+            V3::new(0.2, 0.0, top - 0.006),
+            V3::new(0.3, 0.0, top + 0.01),
+        ];
+        let mut vel = vec![V3::new(0.3, 0.0, -0.5); 4];
+        let fixed = [false, false, true, false];
+        let before = (pos.clone(), vel.clone());
+        assert_eq!(o.limit_penetration(&mut pos, &mut vel, &fixed), 1);
+        assert!((o.planes[1].distance(&pos[0]) + MAX_PENETRATION_M).abs() < 1e-12);
+        assert_eq!(vel[0], V3::new(0.3, 0.0, 0.0));
+        assert_eq!(&pos[1..], &before.0[1..]);
+        assert_eq!(&vel[1..], &before.1[1..]);
     }
 }

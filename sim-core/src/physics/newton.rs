@@ -27,7 +27,8 @@
 //! state of lower energy than the start.
 
 use crate::collision::{
-    CONTACT_SKIN_M, Obstacles, STICK_SPEED_M_S, friction_f0, friction_f1, penalty_stiffness,
+    CONTACT_SKIN_M, HARD_CONTACT_FACTOR, MAX_PENETRATION_M, Obstacles, STICK_SPEED_M_S,
+    friction_f0, friction_f1, penalty_stiffness,
 };
 use crate::math::{GRAVITY_M_S2, M3, V3};
 use crate::physics::sparse::BlockSystem;
@@ -300,6 +301,16 @@ impl NewtonSolver {
                 g -= pl.normal * (k * pen);
                 if hess {
                     hm += pl.normal * pl.normal.transpose() * k;
+                }
+                // Hard stage beyond the depth limit (collision.rs "Depth limit").
+                let deep = pen - CONTACT_SKIN_M - MAX_PENETRATION_M;
+                if deep > 0.0 {
+                    let kh = HARD_CONTACT_FACTOR * k;
+                    e += 0.5 * kh * deep * deep;
+                    g -= pl.normal * (kh * deep);
+                    if hess {
+                        hm += pl.normal * pl.normal.transpose() * kh;
+                    }
                 }
             }
         }
