@@ -13,9 +13,10 @@
 //! towards 0 before any pass-through — provided it is sampled faster than layers approach
 //! (the rig stops at several millimetres, far more than a frame's travel of a fold).
 //!
-//! **Algorithm.** Broad phase: sort and sweep of the triangles' axis-aligned boxes along x,
-//! inflated by the query reach (pairs farther apart than the reach are not measured).
-//! Narrow phase: parry3d's GJK distance between the two triangles, in coordinates relative to
+//! **Algorithm.** Broad phase: sort and sweep of the triangles' axis-aligned boxes along x;
+//! pairs whose boxes are farther apart than the query reach are not measured, nor are pairs
+//! whose box gap (a lower bound of their distance) is no smaller than the closest distance
+//! found so far. Narrow phase: parry3d's GJK distance between the two triangles, in coordinates relative to
 //! the mesh centroid (f32 keeps ~10 nm there, far below the millimetre thresholds). On a
 //! sheet that is nowhere folded over, only near neighbours survive the broad phase. All
 //! buffers are kept between calls: the steady state does not allocate.
@@ -30,7 +31,7 @@ use crate::sheet::physical::PhysMesh;
 /// Reusable buffers of the closest-approach query.
 #[derive(Clone, Debug, Default)]
 pub struct SelfProximity {
-    /// Per triangle: box min and max (inflated by half the reach).
+    /// Per triangle: box min and max.
     boxes: Vec<(V3, V3)>,
     /// Triangle indices sorted by their box's lower x.
     order: Vec<u32>,
@@ -54,10 +55,14 @@ impl SelfProximity {
     /// if no such pair is within `reach_m`. 0 if two of them intersect.
     pub fn closest_approach_m(&mut self, sp: &PhysMesh, reach_m: f64) -> f64 {
         let mut best = f64::INFINITY;
-        self.sweep(sp, reach_m, |a, b| {
-            let d = distance(&Pose::IDENTITY, a, &Pose::IDENTITY, b)
-                .map_or(f64::INFINITY, |d| f64::from(d.distance));
-            best = best.min(d);
+        self.sweep(sp, reach_m, |gap_m, a, b| {
+            // The boxes' gap bounds the triangles' distance from below: skip pairs that cannot
+            // beat the closest one found so far.
+            if gap_m < best {
+                let d = distance(&Pose::IDENTITY, a, &Pose::IDENTITY, b)
+                    .map_or(f64::INFINITY, |d| f64::from(d.distance));
+                best = best.min(d);
+            }
             false
         });
         if best > reach_m { f64::INFINITY } else { best }
@@ -66,29 +71,31 @@ impl SelfProximity {
     /// True if two vertex-disjoint triangles of `sp` intersect (parry3d's GJK intersection
     /// test; a pair touching within f32 rounding may count). Stops at the first such pair.
     pub fn any_crossing(&mut self, sp: &PhysMesh) -> bool {
-        self.sweep(sp, 0.0, |a, b| {
+        self.sweep(sp, 0.0, |_, a, b| {
             intersection_test(&Pose::IDENTITY, a, &Pose::IDENTITY, b).is_ok_and(|r| r.intersecting)
         })
     }
 
-    /// Broad phase: calls `visit` for every vertex-disjoint pair of triangles whose boxes,
-    /// inflated by `reach_m`, overlap, until it returns true; returns whether one did.
+    /// Broad phase: calls `visit(gap, a, b)` for every vertex-disjoint pair of triangles whose
+    /// boxes are less than `reach_m` apart (`gap`, metres: the distance between the two boxes,
+    /// a lower bound of the triangles' distance), until it returns true; returns whether one
+    /// did.
     fn sweep(
         &mut self,
         sp: &PhysMesh,
         reach_m: f64,
-        mut visit: impl FnMut(&Triangle, &Triangle) -> bool,
+        mut visit: impl FnMut(f64, &Triangle, &Triangle) -> bool,
     ) -> bool {
         let nt = sp.triangles.len();
         if nt == 0 || sp.pos.is_empty() {
             return false;
         }
         let centre = sp.pos.iter().sum::<V3>() / sp.pos.len() as f64;
-        let half = V3::repeat(0.5 * reach_m.max(0.0));
+        let reach_m = reach_m.max(0.0);
         self.boxes.clear();
         self.boxes.extend(sp.triangles.iter().map(|t| {
             let [a, b, c] = t.map(|v| sp.pos[v as usize]);
-            (a.inf(&b).inf(&c) - half, a.sup(&b).sup(&c) + half)
+            (a.inf(&b).inf(&c), a.sup(&b).sup(&c))
         }));
         self.order.clear();
         self.order.extend(0..nt as u32);
@@ -107,17 +114,19 @@ impl SelfProximity {
             let ta = sp.triangles[a as usize];
             for &b in &self.order[i + 1..] {
                 let (lb, hb) = boxes[b as usize];
-                if lb.x > ha.x {
+                if lb.x > ha.x + reach_m {
                     break;
                 }
-                if hb.y < la.y || lb.y > ha.y || hb.z < la.z || lb.z > ha.z {
+                let gap = (lb - ha).sup(&(la - hb)).sup(&V3::zeros());
+                let gap_m = gap.norm();
+                if gap_m > reach_m {
                     continue;
                 }
                 let tb = sp.triangles[b as usize];
                 if ta.iter().any(|v| tb.contains(v)) {
                     continue;
                 }
-                if visit(&tri(a), &tri(b)) {
+                if visit(gap_m, &tri(a), &tri(b)) {
                     return true;
                 }
             }
