@@ -63,7 +63,7 @@ pub const CONTACT_SKIN_M: f64 =
 /// obstacle after a substep, metres (see "Depth limit").
 pub const MAX_PENETRATION_M: f64 = 5e-4;
 /// Stiffness of the contact penalty beyond [`MAX_PENETRATION_M`], as a multiple of k_i.
-pub const HARD_CONTACT_FACTOR: f64 = 100.0;
+pub const HARD_CONTACT_FACTOR: f64 = 10.0;
 /// Distance under which a vertex counts as touching an obstacle (for the contact report), m.
 pub const TOUCH_DIST_M: f64 = 4.0 * CONTACT_SKIN_M + 1e-4;
 

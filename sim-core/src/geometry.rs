@@ -64,7 +64,7 @@
 //!    spread (√ of the small eigenvalue of the normals' covariance in their mean tangent
 //!    plane), a smooth doubly curved cap of that extent would need a compression of about
 //!    φ²/6 (chord ratio sin φ/φ); a vertex with φ²/6 > `gauss_eps_factor`·ε_c (15, calibrated
-//!    on the seed scenarios: twist 0, double bend 1–4, full crumple ≥ 15 — 14 under the crumple cap) becomes singular
+//!    on the seed scenarios: twist 0, double bend 1–4, full crumple ≥ 15 — 12 under the crumple cap) becomes singular
 //!    (case [`SingularCase::NonDevelopable`]), most spread first, ≥ `gauss_min_spacing_m`
 //!    (2 cm) from existing singular vertices. Being tied to ε_c, a thicker paper gets fewer
 //!    points and the ε_c sweep of Fig. 21 stays monotone.
@@ -143,7 +143,7 @@
 //! | 2 ρ | ρ_bound = 1.2/cm bounds the ruling spacing from below; S_P density is [`crate::sheet::MeshConfig`] (≈ 130–190 triangles) |
 //! | 3 order | Fig. 16 order (analysis → junctions/classification → cones → isometry); classification runs first since it also decides which triangles are analysed |
 //! | 4 t_iso | per-frame budget = Table V: Phase I is capped at `IsometryConfig::phase1_max_iters` (40, stops early), not run to convergence |
-//! | 5 N_s | the target is ≥ 15 for the full crumple; C5 leaves 14 since the crumple cap stops the squeeze where the sheet would pass through itself (tests guard 14, `tests/geometry.rs`) |
+//! | 5 N_s | the target is ≥ 15 for the full crumple; C5 leaves 12 since the crumple cap stops the squeeze where the sheet would pass through itself (tests guard 12, `tests/geometry.rs`) |
 //! | 6 ε_blaschke | RMS distance √(e/N) compared with 0.5 % L_paper |
 //! | 7 λ | c_t = 1 − λ_min |
 //! | 8 fibre damage | interior singular vertices only, sign of the fold at creation, D = 10 applied |

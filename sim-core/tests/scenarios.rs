@@ -33,7 +33,7 @@ fn every_scenario_is_healthy_and_near_isometric() {
         // seeds' post-isometry figures.
         assert!(s.c_mean_pct < 0.5, "{name}: c_mean {}", s.c_mean_pct);
         assert!(s.n_comp_pct < 10.0, "{name}: n_comp {}", s.n_comp_pct);
-        // Largest Green strain over the scene: 0.084 at most (c5_full_crumple; every scene's
+        // Largest Green strain over the scene: 0.049 at most (c2_moebius_twist; every scene's
         // figure is in docs/benchmarks.md), the solver run to convergence. Twice that means
         // the membrane gave way somewhere.
         assert!(s.max_strain < 0.1, "{name}: strain {}", s.max_strain);
