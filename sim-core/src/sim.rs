@@ -12,18 +12,23 @@
 //!
 //! ## One frame (digest-crumpling §3.0, steps (a)–(c) of Fig. 16 / Fig. 2.3)
 //!
-//! 1. (a) the gesture rig turns the gesture values into handle target poses and moves the
-//!    handles ([`crate::gesture_rig`], [`crate::handles`]); obstacle planes that were moved by
-//!    a room command ease towards their new place ([`crate::collision`]);
+//! 1. (a) while the crumple hands squeeze, the sheet's closest approach to itself
+//!    ([`crate::self_proximity`]) limits the squeeze (gesture_rig.rs "Crumple cap") and the
+//!    frame's start is kept; the gesture rig turns the gesture values into handle target poses
+//!    and moves the handles ([`crate::gesture_rig`], [`crate::handles`]); obstacle planes that
+//!    were moved by a room command ease towards their new place ([`crate::collision`]);
 //! 2. (b) `substeps` physics substeps ([`crate::physics`]) with the held vertices as hard
-//!    constraints interpolated across the frame, obstacles and friction;
+//!    constraints interpolated across the frame, obstacles (with their depth limit) and
+//!    friction;
 //! 3. (c) S_G reads its vertex positions from S_P ([`crate::sheet::geometric`]);
 //! 4. (d)–(h) the geometry layer ([`crate::geometry`]): compression analysis, imaginary
 //!    rulings, singular vertices with fibre damage, flat/curved partition with junction
 //!    hysteresis, rulings, cone fitting and the isometry optimizer; its per-frame outputs are
 //!    [`Sim::geometry`];
-//! 5. contacts (flag, obstacle, slip speed, normal force) and metrics are updated;
-//! 6. the sound analysis ([`crate::sound_analysis`]) turns the frame's curvature flips, new
+//! 5. while squeezing, a frame that passed the sheet through itself is undone
+//!    (`undo_pass_through`);
+//! 6. contacts (flag, obstacle, slip speed, normal force) and metrics are updated;
+//! 7. the sound analysis ([`crate::sound_analysis`]) turns the frame's curvature flips, new
 //!    singular vertices and sliding contacts into crumple and friction events with their
 //!    resonators, written to the frame's [`SoundFrame`], and the statistics are written.
 //!
