@@ -424,6 +424,11 @@ impl GestureRig {
     }
 
     /// L_paper, metres.
+    /// Per-frame hand travel clamp at this frame rate (`frame_scale` = default rate / rate), m.
+    fn travel_clamp_m(&self, frame_scale: f64) -> f64 {
+        TRAVEL_CLAMP_FRAC * self.l_paper() * frame_scale
+    }
+
     fn l_paper(&self) -> f64 {
         self.width_m.max(self.length_m)
     }
@@ -507,8 +512,7 @@ impl GestureRig {
         obstacles: &Obstacles,
         rng: &mut rand_pcg::Pcg32,
     ) -> bool {
-        let l = self.l_paper();
-        let clamp_m = TRAVEL_CLAMP_FRAC * l * frame_scale;
+        let clamp_m = self.travel_clamp_m(frame_scale);
         let max_angle = ROTATION_CLAMP_RAD * frame_scale;
         self.slew_gestures(clamp_m, max_angle);
         let crumple_smoothed = self.state.smoothed[GestureParam::Crumple.index()];
@@ -630,7 +634,7 @@ impl GestureRig {
             self.state.crumple_limit = 1.0;
         }
         if closest_m < SQUEEZE_BACK_OFF_M {
-            let clamp_m = TRAVEL_CLAMP_FRAC * self.l_paper() * frame_scale;
+            let clamp_m = self.travel_clamp_m(frame_scale);
             let rate = self.slew_rate(GestureParam::Crumple, clamp_m, 0.0);
             self.state.crumple_limit = (c - rate).max(0.0);
         } else if closest_m < SQUEEZE_STOP_M {
@@ -890,7 +894,7 @@ impl GestureRig {
     /// Lets hands give way where the sheet pulls harder than their grip (see the module doc).
     /// `forces` are the elastic forces on the vertices; returns true if any hand slipped.
     pub fn apply_slip(&mut self, forces: &[V3], frame_scale: f64) -> bool {
-        let clamp_m = TRAVEL_CLAMP_FRAC * self.l_paper() * frame_scale;
+        let clamp_m = self.travel_clamp_m(frame_scale);
         let mut f = [V3::zeros(); NUM_HANDS];
         for &(v, k, _) in &self.ownership {
             f[k as usize] += forces[v as usize];

@@ -102,13 +102,7 @@ impl SelfProximity {
         let boxes = &self.boxes;
         self.order
             .sort_unstable_by(|&a, &b| boxes[a as usize].0.x.total_cmp(&boxes[b as usize].0.x));
-        let tri = |t: u32| {
-            let p = sp.triangles[t as usize].map(|v| {
-                let d = sp.pos[v as usize] - centre;
-                Vector::new(d.x as f32, d.y as f32, d.z as f32)
-            });
-            Triangle::new(p[0], p[1], p[2])
-        };
+        let tri = |t: u32| centred_triangle(sp, t as usize, centre);
         for (i, &a) in self.order.iter().enumerate() {
             let (la, ha) = boxes[a as usize];
             let ta = sp.triangles[a as usize];
@@ -133,6 +127,15 @@ impl SelfProximity {
         }
         false
     }
+}
+
+/// Triangle `t` of S_P in f32 coordinates relative to `centre` (parry3d's precision).
+fn centred_triangle(sp: &PhysMesh, t: usize, centre: V3) -> Triangle {
+    let p = sp.triangles[t].map(|v| {
+        let d = sp.pos[v as usize] - centre;
+        Vector::new(d.x as f32, d.y as f32, d.z as f32)
+    });
+    Triangle::new(p[0], p[1], p[2])
 }
 
 #[cfg(test)]
@@ -169,13 +172,7 @@ mod tests {
     /// Brute force over every vertex-disjoint pair (the reference for the broad phase).
     fn brute_force_m(sp: &PhysMesh) -> f64 {
         let centre = sp.pos.iter().sum::<V3>() / sp.pos.len() as f64;
-        let tri = |t: usize| {
-            let p = sp.triangles[t].map(|v| {
-                let d = sp.pos[v as usize] - centre;
-                Vector::new(d.x as f32, d.y as f32, d.z as f32)
-            });
-            Triangle::new(p[0], p[1], p[2])
-        };
+        let tri = |t: usize| centred_triangle(sp, t, centre);
         let mut best = f64::INFINITY;
         for a in 0..sp.triangles.len() {
             for b in a + 1..sp.triangles.len() {
