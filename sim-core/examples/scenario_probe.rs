@@ -39,12 +39,13 @@ fn main() {
         }
         let s = run_scenario(name, cfg, true).expect("scenario");
         println!(
-            "{name:30} tris {:4.0} awake {:4}/{:4} med {:6.3} p99 {:6.3} ms  c_mean {:6.3}% n_comp {:6.2}% strain {:6.3} it/sub {:4.2} flips {} rec {} vmax {:5.2} ke {:.2e}",
+            "{name:30} tris {:4.0} awake {:4}/{:4} med {:6.3} p99 {:6.3} ms geom {:6.3} ms  c_mean {:6.3}% n_comp {:6.2}% strain {:6.3} it/sub {:4.2} flips {} rec {} vmax {:5.2} ke {:.2e}",
             s.triangles_avg,
             s.awake_frames,
             s.frames,
             s.step_ms_quantile(0.5),
             s.step_ms_quantile(0.99),
+            s.geometry_ms_quantile(0.5),
             s.c_mean_pct,
             s.n_comp_pct,
             s.max_strain,

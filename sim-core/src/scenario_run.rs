@@ -2,7 +2,7 @@
 //!
 //! Plays a script ([`crate::script_runner::ScriptRunner`]) through a [`Sim`] and gathers what
 //! the tests, the criterion benches and the benchmark report (`cargo xtask bench-report`)
-//! need: per-frame wall time of `Sim::step` (optional), the seeds' length-error metrics averaged
+//! need: per-frame wall time of `Sim::step` and of its phases (optional), the seeds' length-error metrics averaged
 //! over all frames as in TOG Table IV (c_mean, n_comp; P 1432–1440), worst strain, triangle
 //! counts, solver iterations, health counters (flipped triangles, recoveries) and a hash of
 //! the final state (determinism).
@@ -12,7 +12,7 @@ use std::time::Instant;
 use crate::scenario::{self, ScenarioError};
 use crate::script::Script;
 use crate::script_runner::{RunnerError, ScriptRunner};
-use crate::sim::{FrameOutput, Sim, SimConfig};
+use crate::sim::{FrameOutput, PhaseTimes, Sim, SimConfig};
 
 /// Why a run could not start.
 #[derive(Debug, thiserror::Error)]
@@ -34,6 +34,8 @@ pub struct RunSummary {
     pub awake_frames: u64,
     /// Wall time of `Sim::step` per awake frame, nanoseconds (empty unless timed).
     pub step_ns: Vec<u64>,
+    /// Per-phase wall time of each awake frame (empty unless timed).
+    pub phase_ns: Vec<PhaseTimes>,
     /// c_mean averaged over all frames, %.
     pub c_mean_pct: f64,
     /// n_comp averaged over all frames, %.
@@ -77,13 +79,14 @@ pub struct RunSummary {
 impl RunSummary {
     /// The `q`-quantile (0–1) of the step times, milliseconds (0 if not timed).
     pub fn step_ms_quantile(&self, q: f64) -> f64 {
-        if self.step_ns.is_empty() {
-            return 0.0;
-        }
-        let mut v = self.step_ns.clone();
-        v.sort_unstable();
-        let i = ((v.len() - 1) as f64 * q.clamp(0.0, 1.0)).round() as usize;
-        v[i] as f64 * 1e-6
+        quantile_ms(self.step_ns.clone(), q)
+    }
+
+    /// The `q`-quantile (0–1) of the geometry layer's own time per awake frame, milliseconds
+    /// (0 if not timed).
+    pub fn geometry_ms_quantile(&self, q: f64) -> f64 {
+        let ns: Vec<u64> = self.phase_ns.iter().map(|p| p.geometry_ns).collect();
+        quantile_ms(ns, q)
     }
 
     /// Mean step time over awake frames, milliseconds.
@@ -93,6 +96,16 @@ impl RunSummary {
         }
         self.step_ns.iter().sum::<u64>() as f64 * 1e-6 / self.step_ns.len() as f64
     }
+}
+
+/// The `q`-quantile (0–1) of nanosecond samples, milliseconds (0 for no samples).
+fn quantile_ms(mut ns: Vec<u64>, q: f64) -> f64 {
+    if ns.is_empty() {
+        return 0.0;
+    }
+    ns.sort_unstable();
+    let i = ((ns.len() - 1) as f64 * q.clamp(0.0, 1.0)).round() as usize;
+    ns[i] as f64 * 1e-6
 }
 
 /// FNV-1a hash of the bits of every position and velocity of a sim.
@@ -123,8 +136,14 @@ pub fn run_script(script: &Script, base: SimConfig, timed: bool) -> Result<RunSu
         } else {
             0
         }),
+        phase_ns: Vec::with_capacity(if timed {
+            runner.num_frames() as usize
+        } else {
+            0
+        }),
         ..RunSummary::default()
     };
+    sim.set_phase_timing(timed);
     let (mut iters, mut substeps) = (0u64, 0u64);
     while {
         cmds.clear();
@@ -140,6 +159,7 @@ pub fn run_script(script: &Script, base: SimConfig, timed: bool) -> Result<RunSu
             && awake
         {
             s.step_ns.push(t0.elapsed().as_nanos() as u64);
+            s.phase_ns.push(sim.phase_times());
         }
         let st = &out.stats;
         s.frames += 1;

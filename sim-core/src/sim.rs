@@ -46,9 +46,13 @@
 //! sheet); `step`, the other commands and [`Sim::write_mesh`] into a snapshot of sufficient
 //! capacity ([`Sim::mesh_capacity`]) do not allocate (tested with a counting allocator).
 
+mod phase_times;
 mod saved;
 
+pub use phase_times::PhaseTimes;
 pub use saved::{RestoreError, SAVED_SHEET_VERSION, SavedSheet};
+
+use phase_times::Stopwatch;
 
 use rand::SeedableRng;
 
@@ -211,6 +215,10 @@ pub struct Sim {
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
     frame_start_pos: Vec<V3>,
+    /// Whether `step` reads the clock between its phases (benchmarks).
+    phase_timing: bool,
+    stopwatch: Stopwatch,
+    phase_ns: PhaseTimes,
 }
 
 impl Sim {
@@ -274,6 +282,9 @@ impl Sim {
             analysis,
             proximity: SelfProximity::with_capacity(mesh_capacity.1),
             frame_start_pos: Vec::with_capacity(mesh_capacity.0),
+            phase_timing: false,
+            stopwatch: Stopwatch::default(),
+            phase_ns: PhaseTimes::default(),
             cfg,
             frame: 0,
             sheet,
@@ -296,6 +307,17 @@ impl Sim {
     /// Simulated time, seconds.
     pub fn time_s(&self) -> f64 {
         self.frame as f64 / self.cfg.frame_rate_hz
+    }
+
+    /// Turns per-phase timing of `step` on or off (off by default; the simulation is the
+    /// same either way). See [`PhaseTimes`].
+    pub fn set_phase_timing(&mut self, on: bool) {
+        self.phase_timing = on;
+    }
+
+    /// Per-phase wall time of the last awake frame (zeros unless phase timing is on).
+    pub fn phase_times(&self) -> PhaseTimes {
+        self.phase_ns
     }
 
     /// True when the sheet is at rest and a step does no work.
@@ -395,7 +417,9 @@ impl Sim {
         );
         let frames_simulated = self.frames_simulated;
         let substeps = self.physics.substeps_done;
+        let phase_timing = self.phase_timing;
         *self = Self::with_sheet(self.cfg, sheet);
+        self.phase_timing = phase_timing;
         self.frames_simulated = frames_simulated;
         self.physics.substeps_done = substeps;
         // Gestures and held slots survive; held handles re-anchor on the new sheet.
@@ -506,6 +530,8 @@ impl Sim {
             return;
         }
         self.frames_simulated += 1;
+        self.stopwatch.start(self.phase_timing);
+        self.phase_ns = PhaseTimes::default();
         let dt = 1.0 / self.cfg.frame_rate_hz;
         let frame_scale = DEFAULT_FRAME_RATE_HZ / self.cfg.frame_rate_hz;
         let planes_moved = self.obstacles.ease(dt);
@@ -530,6 +556,7 @@ impl Sim {
         if !guard {
             self.rig.state.undo_streak = 0;
         }
+        self.phase_ns.self_contact_ns = self.stopwatch.lap_ns();
         let handles_moved = self.rig.advance_frame(
             dt,
             frame_scale,
@@ -568,6 +595,7 @@ impl Sim {
             crate::physics::elastic_forces(&self.sheet.sp, &self.params, &mut self.forces);
             slipped = self.rig.apply_slip(&self.forces, frame_scale);
         }
+        self.phase_ns.physics_ns = self.stopwatch.lap_ns();
         if self.cfg.geometry.enabled {
             self.geometry.update(
                 &mut self.sheet.sp,
@@ -580,6 +608,7 @@ impl Sim {
         } else {
             self.geometry.idle_frame(self.frame);
         }
+        self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
         if guard {
             if self.undo_pass_through(frame_scale) {
                 self.sheet.sg.pull_positions(&self.sheet.sp);
@@ -588,6 +617,7 @@ impl Sim {
                 self.rig.state.undo_streak = 0;
             }
         }
+        self.phase_ns.self_contact_ns += self.stopwatch.lap_ns();
         self.update_contacts();
         self.last_metrics = self.metrics.compute(&self.sheet.sp);
         self.analysis.analyze(
@@ -599,6 +629,7 @@ impl Sim {
             },
             &mut out.sound,
         );
+        self.phase_ns.analysis_ns = self.stopwatch.lap_ns();
 
         let quiet = !handles_moved
             && !slipped

@@ -60,3 +60,25 @@ fn run_summaries_repeat() {
     let b = run_script(&s, SimConfig::default(), false).unwrap();
     assert_eq!(a, b);
 }
+
+#[test]
+fn phase_timing_changes_nothing_but_the_clock_readings() {
+    // C5 squeezes (self-contact runs) and has the geometry layer on.
+    let s = scenario::get("c5_full_crumple").unwrap();
+    let timed = run_script(&s, SimConfig::default(), true).unwrap();
+    let plain = run_script(&s, SimConfig::default(), false).unwrap();
+    assert_eq!(timed.final_hash, plain.final_hash);
+    assert_eq!(timed.singular_final, plain.singular_final);
+    assert!(plain.phase_ns.is_empty());
+    assert_eq!(timed.phase_ns.len() as u64, timed.awake_frames);
+    let sum = |f: fn(&sim_core::sim::PhaseTimes) -> u64| timed.phase_ns.iter().map(f).sum::<u64>();
+    assert!(sum(|p| p.physics_ns) > 0);
+    assert!(sum(|p| p.geometry_ns) > 0);
+    assert!(sum(|p| p.self_contact_ns) > 0);
+    assert!(sum(|p| p.analysis_ns) > 0);
+    // The phases lie inside the step.
+    for (p, &step) in timed.phase_ns.iter().zip(&timed.step_ns) {
+        let total = p.physics_ns + p.geometry_ns + p.self_contact_ns + p.analysis_ns;
+        assert!(total <= step, "phases {total} ns > step {step} ns");
+    }
+}
