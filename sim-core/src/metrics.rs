@@ -69,6 +69,12 @@ pub struct MetricsTracker {
 }
 
 impl MetricsTracker {
+    /// Unit normal of triangle `t` at the end of the previous frame (the reference of the
+    /// flipped-triangle count).
+    pub fn previous_normal(&self, t: usize) -> V3 {
+        self.prev_normal.get(t).copied().unwrap_or_else(V3::zeros)
+    }
+
     /// Storage for a mesh, with the current normals as the "previous frame".
     pub fn new(mesh: &PhysMesh) -> Self {
         let mut t = Self {

@@ -215,6 +215,8 @@ pub struct Sim {
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
     frame_start_pos: Vec<V3>,
+    /// S_P positions before the contact depth limit of a substep.
+    pre_limit_pos: Vec<V3>,
     /// Whether `step` reads the clock between its phases (benchmarks).
     phase_timing: bool,
     stopwatch: Stopwatch,
@@ -282,6 +284,7 @@ impl Sim {
             analysis,
             proximity: SelfProximity::with_capacity(mesh_capacity.1),
             frame_start_pos: Vec::with_capacity(mesh_capacity.0),
+            pre_limit_pos: Vec::with_capacity(mesh_capacity.0),
             phase_timing: false,
             stopwatch: Stopwatch::default(),
             phase_ns: PhaseTimes::default(),
@@ -518,6 +521,52 @@ impl Sim {
         true
     }
 
+    /// The contact depth limit (collision.rs "Depth limit") after a substep, without turning
+    /// a facet over: putting a deep vertex back at the limit depth moves it along the plane
+    /// normal, which can turn a triangle standing edge-on against the plane past 90° from its
+    /// orientation at the end of the previous frame (seen in a stress storm, after a Newton
+    /// step cut back 42 times); the vertices of a triangle the limit would turn over keep
+    /// their simulated positions, a little deeper.
+    fn limit_penetration(&mut self) {
+        let sp = &mut self.sheet.sp;
+        self.pre_limit_pos.clone_from(&sp.pos);
+        if self
+            .obstacles
+            .limit_penetration(&mut sp.pos, &mut sp.vel, &self.fixed)
+            == 0
+        {
+            return;
+        }
+        let normal = |p: &[V3], t: &[u32; 3]| {
+            let x = t.map(|i| p[i as usize]);
+            (x[1] - x[0]).cross(&(x[2] - x[0]))
+        };
+        // Restoring a vertex can turn over another triangle that shares it; a few passes
+        // settle it (each pass only restores, so it ends).
+        for _ in 0..4 {
+            let mut restored = false;
+            for (k, t) in sp.triangles.iter().enumerate() {
+                if t.iter()
+                    .all(|&i| sp.pos[i as usize] == self.pre_limit_pos[i as usize])
+                {
+                    continue;
+                }
+                let prev = self.metrics.previous_normal(k);
+                if normal(&sp.pos, t).dot(&prev) < 0.0
+                    && normal(&self.pre_limit_pos, t).dot(&prev) >= 0.0
+                {
+                    for &i in t {
+                        sp.pos[i as usize] = self.pre_limit_pos[i as usize];
+                    }
+                    restored = true;
+                }
+            }
+            if !restored {
+                break;
+            }
+        }
+    }
+
     /// Steps one frame.
     pub fn step(&mut self, out: &mut FrameOutput) {
         out.sound.clear();
@@ -585,9 +634,7 @@ impl Sim {
             iterations += r.iterations;
             halvings += r.halvings;
             recoveries += u32::from(r.recovered);
-            let sp = &mut self.sheet.sp;
-            self.obstacles
-                .limit_penetration(&mut sp.pos, &mut sp.vel, &self.fixed);
+            self.limit_penetration();
         }
         self.sheet.sg.pull_positions(&self.sheet.sp);
         let mut slipped = false;
