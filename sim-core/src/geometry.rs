@@ -291,6 +291,11 @@ impl GeometryConfig {
         if i.max_speed_m_s.is_nan() || i.max_speed_m_s < 0.0 {
             i.max_speed_m_s = d.max_speed_m_s;
         }
+        if let Some(m) = i.phase1_min_decrease
+            && !(0.0..1.0).contains(&m)
+        {
+            i.phase1_min_decrease = d.phase1_min_decrease;
+        }
         c
     }
 }
