@@ -63,6 +63,11 @@ struct ScenarioResult {
     faults: u64,
     /// Interior singular vertices at the end of the scene.
     singular: u32,
+    /// The geometry layer's own time per awake frame (`Sim::phase_times`), median and p99, ms.
+    geometry_median_ms: f64,
+    geometry_p99_ms: f64,
+    /// Self-contact (crumple cap query + pass-through guard) per awake frame, mean, ms.
+    self_contact_mean_ms: f64,
 }
 
 /// Results of one configuration over the scenarios.
@@ -116,24 +121,40 @@ fn measure(
             geometry: variant.geometry,
             ..SimConfig::default()
         };
+        // Per frame, the fastest of the repetitions (step and each phase on its own).
         let mut best: Vec<u64> = Vec::new();
+        let mut best_geometry: Vec<u64> = Vec::new();
+        let mut best_contact: Vec<u64> = Vec::new();
         let mut summary = None;
         for _ in 0..reps.max(1) {
             let s = run_script(&script, cfg, true)?;
+            let geometry: Vec<u64> = s.phase_ns.iter().map(|p| p.geometry_ns).collect();
+            let contact: Vec<u64> = s.phase_ns.iter().map(|p| p.self_contact_ns).collect();
             if best.is_empty() {
                 best = s.step_ns.clone();
+                best_geometry = geometry;
+                best_contact = contact;
             } else {
                 if best.len() != s.step_ns.len() {
                     bail!("{name}: replays differ (non-deterministic run?)");
                 }
-                for (b, t) in best.iter_mut().zip(&s.step_ns) {
-                    *b = (*b).min(*t);
+                for (b, t) in [
+                    (&mut best, &s.step_ns),
+                    (&mut best_geometry, &geometry),
+                    (&mut best_contact, &contact),
+                ] {
+                    for (b, t) in b.iter_mut().zip(t) {
+                        *b = (*b).min(*t);
+                    }
                 }
             }
             summary = Some(s);
         }
         let s = summary.expect("at least one repetition");
         best.sort_unstable();
+        best_geometry.sort_unstable();
+        let self_contact_mean_ms =
+            best_contact.iter().sum::<u64>() as f64 * 1e-6 / best_contact.len().max(1) as f64;
         out.push(ScenarioResult {
             name,
             tris: s.triangles_avg,
@@ -147,6 +168,9 @@ fn measure(
             frames: s.frames,
             faults: s.flips + s.recoveries,
             singular: s.singular_final,
+            geometry_median_ms: quantile(&best_geometry, 0.5),
+            geometry_p99_ms: quantile(&best_geometry, 0.99),
+            self_contact_mean_ms,
         });
     }
     Ok(VariantResult {
@@ -251,10 +275,26 @@ fn variants(quick: bool) -> Vec<Variant> {
         " (no isometry)",
     ));
     if !quick {
+        // The seeds' fixed Phase I iterations (no early stop): our former cap of 40, and
+        // theirs of 200.
+        let fixed_iso = GeometryConfig {
+            isometry: sim_core::geometry::isometry::IsometryConfig {
+                phase1_min_decrease: None,
+                ..g.isometry
+            },
+            ..g
+        };
+        v.push(with_geometry(
+            variant("newton", SolverConfig::default(), d),
+            "geometry",
+            fixed_iso,
+            " (isometry Phase I always 40 it.)",
+        ));
         let long_iso = GeometryConfig {
             isometry: sim_core::geometry::isometry::IsometryConfig {
                 phase1_max_iters: 200,
                 phase2_max_iters: 200,
+                phase1_min_decrease: None,
                 ..g.isometry
             },
             ..g
@@ -591,7 +631,10 @@ fn report(r: &Report<'_>) -> String {
          points and fibre damage, flat/curved partition, rulings, cone fitting, two-phase \
          isometry); the physics-only figures of the same solver are beside it. Targets: whole \
          frame median ≤ 1 ms and p99 ≤ 4 ms for 100–300 triangles; c_mean ≤ 0.2 %, n_comp ≤ 1 %; \
-         geometry ≤ 0.2 ms per frame.\n"
+         geometry ≤ 0.2 ms per frame (median). The geometry layer's own time is read from the \
+         clock around it inside the step (`Sim::phase_times`), per frame; self-contact is the \
+         crumple cap's closest-approach query and pass-through guard, which run only while the \
+         crumple hands squeeze (mean over awake frames).\n"
     );
 
     // Default per scenario, with the physics alone beside it.
@@ -604,16 +647,16 @@ fn report(r: &Report<'_>) -> String {
     );
     let _ = writeln!(
         s,
-        "| scenario | S_P triangles | frames (awake) | median ms | p99 ms | c_mean % | n_comp % | singular | physics only: median ms | physics only: c_mean % | physics only: n_comp % | geometry ms (median difference) | max strain | Newton it./substep |"
+        "| scenario | S_P triangles | frames (awake) | median ms | p99 ms | c_mean % | n_comp % | singular | physics only: median ms | physics only: c_mean % | physics only: n_comp % | geometry ms: median / p99 | with − without geometry: median ms | self-contact ms (mean) | max strain | Newton it./substep |"
     );
     let _ = writeln!(
         s,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for (x, y) in d.scenarios.iter().zip(&p.scenarios) {
         let _ = writeln!(
             s,
-            "| {} | {:.0} | {} ({}) | {:.3} | {:.3} | {:.4} | {:.2} | {} | {:.3} | {:.4} | {:.2} | {:.3} | {:.3} | {:.2} |",
+            "| {} | {:.0} | {} ({}) | {:.3} | {:.3} | {:.4} | {:.2} | {} | {:.3} | {:.4} | {:.2} | {:.3} / {:.3} | {:.3} | {:.3} | {:.3} | {:.2} |",
             x.name,
             x.tris,
             x.frames,
@@ -626,14 +669,17 @@ fn report(r: &Report<'_>) -> String {
             y.median_ms,
             y.c_mean,
             y.n_comp,
+            x.geometry_median_ms,
+            x.geometry_p99_ms,
             x.median_ms - y.median_ms,
+            x.self_contact_mean_ms,
             x.strain,
             x.iters
         );
     }
     let _ = writeln!(
         s,
-        "| **all** | {:.0} | | **{:.3}** (max {:.3}) | **{:.3}** (max) | **{:.4}** | **{:.2}** | | {:.3} | {:.4} | {:.2} | {:.3} | {:.3} | |\n",
+        "| **all** | {:.0} | | **{:.3}** (max {:.3}) | **{:.3}** (max) | **{:.4}** | **{:.2}** | | {:.3} | {:.4} | {:.2} | **{:.3}** (max {:.3}) / {:.3} (max) | {:.3} | {:.3} | {:.3} | |\n",
         d.mean(|x| x.tris),
         d.median_ms(),
         d.max(|x| x.median_ms),
@@ -643,16 +689,22 @@ fn report(r: &Report<'_>) -> String {
         p.median_ms(),
         p.c_mean(),
         p.n_comp(),
+        d.mean(|x| x.geometry_median_ms),
+        d.max(|x| x.geometry_median_ms),
+        d.max(|x| x.geometry_p99_ms),
         d.median_ms() - p.median_ms(),
+        d.mean(|x| x.self_contact_mean_ms),
         d.max(|x| x.strain)
     );
-    target_misses(&mut s, d, p);
+    target_misses(&mut s, d);
     let _ = writeln!(
         s,
         "Seeds for comparison (TOG Tables IV–V, after their isometry step, 87–156 triangles): \
          c_mean 0.17–1.47 %, n_comp 0.1–11 %, physics 50–232 ms + collisions 10–62 ms per frame, \
-         remeshing 0.2–0.8 ms and isometry 0.9–3.1 ms. The geometry column is the difference of \
-         the two medians (the layer's own cost; the two runs play the same scene, their trajectories differ once the layer acts).\n"
+         remeshing 0.2–0.8 ms and isometry 0.9–3.1 ms. The geometry column is the layer's own \
+         time; the difference of the two runs' medians beside it is larger, because once the \
+         layer acts the two runs play different trajectories (the physics of the run with the \
+         layer works harder: more Newton iterations, a squeeze that goes further).\n"
     );
 
     // Frontier table.
@@ -853,15 +905,15 @@ fn report(r: &Report<'_>) -> String {
 
 /// Lists every scenario of the default row that misses a target (the whole-frame median
 /// ≤ 1 ms, p99 ≤ 4 ms, c_mean ≤ 0.2 %, n_comp ≤ 1 %, geometry ≤ 0.2 ms), or says none does.
-fn target_misses(s: &mut String, d: &VariantResult, p: &VariantResult) {
+fn target_misses(s: &mut String, d: &VariantResult) {
     let mut misses = Vec::new();
-    for (x, y) in d.scenarios.iter().zip(&p.scenarios) {
+    for x in &d.scenarios {
         let checks = [
             ("median", x.median_ms, 1.0, "ms"),
             ("p99", x.p99_ms, 4.0, "ms"),
             ("c_mean", x.c_mean, 0.2, "%"),
             ("n_comp", x.n_comp, 1.0, "%"),
-            ("geometry", x.median_ms - y.median_ms, 0.2, "ms"),
+            ("geometry", x.geometry_median_ms, 0.2, "ms"),
         ];
         for (what, value, limit, unit) in checks {
             if value > limit {
