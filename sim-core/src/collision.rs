@@ -37,8 +37,10 @@
 //! the solver lets the sheet give way elsewhere), and after every substep a free vertex still
 //! deeper is put back at that depth and loses the normal velocity with which it moves into
 //! the plane (relative to a moving plane): the table is rigid. Shallower contacts keep the
-//! penalty's compliance, whose depth is the normal force that friction uses. Held vertices follow their hands (whose targets are kept out of the
-//! planes by the gesture rig).
+//! penalty's compliance, whose depth is the normal force that friction uses. Held vertices
+//! follow their hands (whose targets are kept out of the planes by the gesture rig). The
+//! step (`Sim::limit_penetration`) leaves out the vertices of a triangle that putting back
+//! would turn over: they stay a little deeper, the facet keeps its orientation.
 //!
 //! **Moving obstacles.** A command that moves or switches on a plane must not teleport it
 //! through the sheet (a penalty would then explode). Each obstacle's *effective* plane offset
