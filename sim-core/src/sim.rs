@@ -60,7 +60,7 @@ use crate::collision::{CONTACT_SKIN_M, Obstacles, TOUCH_DIST_M, VertexContact, p
 use crate::control::{Command, GestureParam, Material, SheetSize};
 use crate::geometry::{GeometryConfig, GeometryFrame, GeometryLayer};
 use crate::gesture_rig::GestureRig;
-use crate::gesture_rig::SQUEEZE_REACH_M;
+use crate::gesture_rig::{NUM_SLOT_HANDS, SQUEEZE_REACH_M};
 use crate::material::PaperMaterial;
 use crate::math::{V2, V3};
 use crate::mesh_snapshot::{MeshSnapshot, VertexTag};
@@ -425,16 +425,19 @@ impl Sim {
         self.phase_timing = phase_timing;
         self.frames_simulated = frames_simulated;
         self.physics.substeps_done = substeps;
-        // Gestures and held slots survive; held handles re-anchor on the new sheet.
+        // Gestures and held slots survive; held handles re-anchor on the new sheet. The
+        // crumple starts over: a flat sheet cannot be held at a squeeze, and re-anchoring the
+        // crumple hands at the old squeeze yanked the new sheet (2.9 m/s) into a burst of
+        // crumple events; if the crumple is still commanded, its hands grab the new sheet in
+        // the next frame and squeeze from 0.
         self.rig.state.commanded = held.commanded;
         self.rig.state.smoothed = held.smoothed;
+        self.rig.state.smoothed[GestureParam::Crumple.index()] = 0.0;
         self.rig.state.held = held.held;
         self.rig.state.shake_phase_rad = held.shake_phase_rad;
-        self.rig.state.crumple_jitter = held.crumple_jitter;
-        self.rig.state.crumple_active = held.crumple_active;
         self.rig.state.grab_seq = held.grab_seq;
         self.rig.state.next_seq = held.next_seq;
-        for k in 0..held.hands.len() {
+        for k in 0..NUM_SLOT_HANDS {
             self.rig.state.hands[k].active = held.hands[k].active;
             self.rig.state.hands[k].speed_m_s = held.hands[k].speed_m_s;
         }
@@ -937,6 +940,49 @@ mod tests {
         assert_eq!(out.stats.num_flipped, 0);
         assert_eq!(out.stats.recoveries, 0);
         assert!(m.tags.contains(&VertexTag::Handle));
+    }
+
+    #[test]
+    fn a_reset_while_the_crumple_lets_go_gives_a_fresh_still_sheet() {
+        let mut sim = Sim::new(SimConfig::default());
+        let mut out = FrameOutput::default();
+        let crumple = |sim: &mut Sim, value| {
+            sim.apply(Command::Gesture {
+                param: GestureParam::Crumple,
+                value,
+            })
+        };
+        crumple(&mut sim, 0.6);
+        for _ in 0..300 {
+            sim.step(&mut out);
+        }
+        crumple(&mut sim, 0.0);
+        sim.step(&mut out);
+        assert!(sim.crumple_squeeze().0 > 0.05, "still letting go");
+        sim.apply(Command::Reset);
+        for _ in 0..20 {
+            sim.step(&mut out);
+            assert!(
+                out.stats.max_speed_m_s < 0.1,
+                "the new sheet is yanked: {} m/s",
+                out.stats.max_speed_m_s
+            );
+        }
+        assert_eq!(sim.crumple_squeeze().0, 0.0);
+        // Still commanded across a reset: the hands grab the new sheet and squeeze from 0.
+        crumple(&mut sim, 0.6);
+        for _ in 0..100 {
+            sim.step(&mut out);
+        }
+        sim.apply(Command::Reset);
+        sim.step(&mut out);
+        let s = sim.crumple_squeeze().0;
+        assert!(s < 0.05, "squeeze restarts from 0: {s}");
+        for _ in 0..100 {
+            sim.step(&mut out);
+        }
+        assert!(sim.crumple_squeeze().0 > s, "and goes on");
+        assert_eq!(out.stats.num_flipped, 0);
     }
 
     #[test]
