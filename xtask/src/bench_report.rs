@@ -27,6 +27,7 @@ use std::process::Command;
 
 use anyhow::{Context, bail};
 use sim_core::geometry::GeometryConfig;
+use sim_core::geometry::isometry::IsometryConfig;
 use sim_core::physics::{SolverConfig, SolverKind};
 use sim_core::scenario;
 use sim_core::scenario_run::run_script;
@@ -261,50 +262,29 @@ fn variants(quick: bool) -> Vec<Variant> {
             "",
         ));
     }
-    let no_iso = GeometryConfig {
-        isometry: sim_core::geometry::isometry::IsometryConfig {
-            enabled: false,
-            ..g.isometry
-        },
-        ..g
+    // The default solver and geometry layer with the isometry settings changed by `f`.
+    let iso_row = |label: &str, f: fn(&mut IsometryConfig)| {
+        let mut geo = g;
+        f(&mut geo.isometry);
+        with_geometry(
+            variant("newton", SolverConfig::default(), d),
+            "geometry",
+            geo,
+            label,
+        )
     };
-    v.push(with_geometry(
-        variant("newton", SolverConfig::default(), d),
-        "geometry",
-        no_iso,
-        " (no isometry)",
-    ));
+    v.push(iso_row(" (no isometry)", |i| i.enabled = false));
     if !quick {
         // The seeds' fixed Phase I iterations (no early stop): our former cap of 40, and
         // theirs of 200.
-        let fixed_iso = GeometryConfig {
-            isometry: sim_core::geometry::isometry::IsometryConfig {
-                phase1_min_decrease: None,
-                ..g.isometry
-            },
-            ..g
-        };
-        v.push(with_geometry(
-            variant("newton", SolverConfig::default(), d),
-            "geometry",
-            fixed_iso,
-            " (isometry Phase I always 40 it.)",
-        ));
-        let long_iso = GeometryConfig {
-            isometry: sim_core::geometry::isometry::IsometryConfig {
-                phase1_max_iters: 200,
-                phase2_max_iters: 200,
-                phase1_min_decrease: None,
-                ..g.isometry
-            },
-            ..g
-        };
-        v.push(with_geometry(
-            variant("newton", SolverConfig::default(), d),
-            "geometry",
-            long_iso,
-            " (isometry 200 it.)",
-        ));
+        v.push(iso_row(" (isometry Phase I always 40 it.)", |i| {
+            i.phase1_min_decrease = None;
+        }));
+        v.push(iso_row(" (isometry 200 it.)", |i| {
+            i.phase1_max_iters = 200;
+            i.phase2_max_iters = 200;
+            i.phase1_min_decrease = None;
+        }));
         v.push(with_geometry(
             variant("density", SolverConfig::default(), mesh(1.0 / 13.0)),
             "geometry",
