@@ -130,6 +130,17 @@ pub fn energy(x: [V3; 3], rest: &TriRest, g_prev: &M2, damp: f64, p: &MembranePa
 
 /// Gradient (per vertex) and Gauss–Newton-safe Hessian blocks (`hess[a][b]` = ∂²/∂x_a∂x_b)
 /// of energy + dissipation of one triangle. Returns the energy.
+///
+/// With `F = Σ_a x_a β_aᵀ` (β_a = row a of `[−1 −1; 1 0; 0 1] Ū⁻¹`, so β₀ = −β₁ − β₂) and
+/// `u_a = F β_a`, the derivative of `δ(F S)` in closed form gives, per vertex pair,
+///
+/// ```text
+/// ∂W/∂x_a       = Ā F S β_a
+/// ∂²W/∂x_a∂x_b = Ā c_m (μ (β_a·β_b) F Fᵀ + μ u_b u_aᵀ + λ u_a u_bᵀ) + Ā (β_aᵀ S⁺ β_b) I
+/// ```
+///
+/// (`c_m = 1 + τ_s/h`: elastic + viscous material term; S⁺ = S clamped PSD, the geometric
+/// term), so the nine blocks cost a handful of outer products.
 pub fn grad_hess(
     x: [V3; 3],
     rest: &TriRest,
@@ -149,52 +160,34 @@ pub fn grad_hess(
         e += damp * energy_density(&dg, p);
     }
     let b = &rest.dm_inv;
-    // Rows of B as 2-vectors: b_j = B[j, :] for edge j (vertex j+1).
-    let bj = [V2::new(b[(0, 0)], b[(0, 1)]), V2::new(b[(1, 0)], b[(1, 1)])];
-    // ∂W/∂d_j = A · F S b_j  (F S is 3×2: columns f·S).
+    let b1 = V2::new(b[(0, 0)], b[(0, 1)]);
+    let b2 = V2::new(b[(1, 0)], b[(1, 1)]);
+    let beta = [-(b1 + b2), b1, b2];
+    // F S (3×2) as its two columns.
     let fs0 = f[0] * s[(0, 0)] + f[1] * s[(1, 0)];
     let fs1 = f[0] * s[(0, 1)] + f[1] * s[(1, 1)];
-    let gd = [
-        (fs0 * bj[0].x + fs1 * bj[0].y) * a,
-        (fs0 * bj[1].x + fs1 * bj[1].y) * a,
-    ];
-    grad[1] = gd[0];
-    grad[2] = gd[1];
-    grad[0] = -(gd[0] + gd[1]);
+    let u = beta.map(|bv| f[0] * bv.x + f[1] * bv.y);
+    for (gv, bv) in grad.iter_mut().zip(&beta) {
+        *gv = (fs0 * bv.x + fs1 * bv.y) * a;
+    }
 
-    // Hessian w.r.t. the edge vectors d_1, d_2: K[j][k] (3×3 each).
     let s_psd = sym2_clamp_psd(&s);
-    let cm = 1.0 + damp; // material stiffness scale (elastic + viscous)
-    let mut k = [[M3::zeros(); 2]; 2];
-    // Rows of F (3 rows, each a 2-vector): r_c = (f0[c], f1[c]).
-    let rows = [
-        V2::new(f[0].x, f[1].x),
-        V2::new(f[0].y, f[1].y),
-        V2::new(f[0].z, f[1].z),
-    ];
-    for j in 0..2 {
-        for c in 0..3 {
-            // δF = e_c b_jᵀ ; δG = sym(r_c b_jᵀ) ; δS = cm (2μ δG + λ tr δG I).
-            let rc = rows[c];
-            let bjv = bj[j];
-            let tr = rc.dot(&bjv);
-            let dg = M2::new(
-                rc.x * bjv.x,
-                0.5 * (rc.x * bjv.y + bjv.x * rc.y),
-                0.5 * (rc.x * bjv.y + bjv.x * rc.y),
-                rc.y * bjv.y,
-            );
-            let ds = (dg * (2.0 * p.mu_n_m) + M2::identity() * (p.lambda_n_m * tr)) * cm;
-            // F δS (3×2): columns.
-            let fds0 = f[0] * ds[(0, 0)] + f[1] * ds[(1, 0)];
-            let fds1 = f[0] * ds[(0, 1)] + f[1] * ds[(1, 1)];
-            for kk in 0..2 {
-                let bk = bj[kk];
-                let mut col = (fds0 * bk.x + fds1 * bk.y) * a;
-                // Geometric term: e_c (b_jᵀ S⁺ b_k).
-                col[c] += a * bjv.dot(&(s_psd * bk));
-                // Column (j, c) of block K[kk][j].
-                k[kk][j].set_column(c, &col);
+    let cm = 1.0 + damp;
+    let mu = a * cm * p.mu_n_m;
+    let lam = a * cm * p.lambda_n_m;
+    let fft = f[0] * f[0].transpose() + f[1] * f[1].transpose();
+    for i in 0..3 {
+        for j in i..3 {
+            let geo = a * beta[i].dot(&(s_psd * beta[j]));
+            let mut blk = fft * (mu * beta[i].dot(&beta[j]))
+                + u[j] * u[i].transpose() * mu
+                + u[i] * u[j].transpose() * lam;
+            for c in 0..3 {
+                blk[(c, c)] += geo;
+            }
+            hess[i][j] = blk;
+            if j != i {
+                hess[j][i] = blk.transpose();
             }
         }
     }
@@ -202,7 +195,6 @@ pub fn grad_hess(
     let kb = p.lambda_n_m + 2.0 * p.mu_n_m;
     let (j, gj) = area_ratio_grad(&x, rest);
     let (wb, dwb, d2wb) = barrier(j);
-    let mut bar = [[M3::zeros(); 3]; 3];
     if wb > 0.0 {
         e += kb * wb;
         for v in 0..3 {
@@ -211,23 +203,8 @@ pub fn grad_hess(
         let c = a * kb * d2wb;
         for u in 0..3 {
             for v in 0..3 {
-                bar[u][v] = gj[u] * gj[v].transpose() * c;
+                hess[u][v] += gj[u] * gj[v].transpose() * c;
             }
-        }
-    }
-    let k00 = k[0][0] + k[0][1] + k[1][0] + k[1][1];
-    hess[0][0] = k00;
-    for j in 0..2 {
-        // Row vertex 0, column vertex j+1: −Σ_i K[i][j].
-        hess[0][j + 1] = -(k[0][j] + k[1][j]);
-        hess[j + 1][0] = -(k[j][0] + k[j][1]);
-        for kk in 0..2 {
-            hess[j + 1][kk + 1] = k[j][kk];
-        }
-    }
-    for u in 0..3 {
-        for v in 0..3 {
-            hess[u][v] += bar[u][v];
         }
     }
     a * e
