@@ -35,7 +35,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
 };
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::math::M3;
@@ -57,8 +57,8 @@ pub struct BlockSystem {
     off_pairs: Vec<[u32; 2]>,
     /// Block values: `n` diagonal blocks, then the off-diagonal ones.
     pub blocks: Vec<M3>,
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    /// The stored (lower-triangle, permuted) scalar pattern, checked once when built.
+    pattern: SymbolicSparseColMat<usize>,
     values: Vec<f64>,
     scatter: Vec<[u32; 9]>,
     symbolic: SymbolicCholesky<usize>,
@@ -172,8 +172,7 @@ impl BlockSystem {
             off_pairs,
             blocks: vec![M3::zeros(); nb],
             values: vec![0.0; row_idx.len()],
-            col_ptr,
-            row_idx,
+            pattern: SymbolicSparseColMat::new_checked(dim, dim, col_ptr, None, row_idx),
             scatter,
             symbolic,
             l_values,
@@ -296,9 +295,7 @@ impl BlockSystem {
     ) -> Result<(), SolveError> {
         self.scatter(fixed, diag_fixed, reg);
         let dim = 3 * self.n;
-        let sym =
-            SymbolicSparseColMatRef::new_checked(dim, dim, &self.col_ptr, None, &self.row_idx);
-        let a = SparseColMatRef::new(sym, &self.values);
+        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
         let stack = MemStack::new(&mut self.mem);
         self.factorizations += 1;
         let llt = self
