@@ -97,7 +97,8 @@
 //!    discards the correction, and frames with a vertex faster than
 //!    `IsometryConfig::max_speed_m_s` skip it (measured: in hostile stress runs the
 //!    position-only correction during violent motion let later physics steps turn facets
-//!    over). Targets are compression-only by default
+//!    over); a still sheet skips it unless an edge is compressed by more than 1 % (isometry.rs
+//!    "When it runs"). Targets are compression-only by default
 //!    (stretched edges keep their length; measured: the symmetric targets raised c_mean above
 //!    the physics alone, see `docs/benchmarks.md`).
 //! 10. **Sudden shape changes** ("clac", T 1247, 1261): new singular vertices, new curved
@@ -295,6 +296,11 @@ impl GeometryConfig {
             && !(0.0..1.0).contains(&m)
         {
             i.phase1_min_decrease = d.phase1_min_decrease;
+        }
+        if let Some(t) = i.trigger_compression
+            && !(0.0..1.0).contains(&t)
+        {
+            i.trigger_compression = d.trigger_compression;
         }
         c
     }
@@ -959,7 +965,8 @@ impl GeometryLayer {
     }
 
     /// Runs steps (d)–(h) on an awake frame. `fixed`: vertices held this frame (kept in place
-    /// by the isometry step).
+    /// by the isometry step). `driven`: a hand or an obstacle moved the sheet this frame (the
+    /// isometry step's trigger, [`IsometryConfig::trigger_compression`]).
     pub fn update(
         &mut self,
         sp: &mut PhysMesh,
@@ -967,6 +974,7 @@ impl GeometryLayer {
         fixed: &[bool],
         obstacles: &Obstacles,
         frame: u64,
+        driven: bool,
     ) {
         self.frames_processed += 1;
         self.out.frame = frame;
@@ -993,7 +1001,7 @@ impl GeometryLayer {
         }
         self.trace_rulings(sp);
         self.fit_cones();
-        self.isometry(sp, fixed, obstacles);
+        self.isometry(sp, fixed, obstacles, driven);
         for s in &mut self.out.singular {
             s.pos3 = sp.pos[s.sp_vertex as usize];
         }
@@ -2025,12 +2033,18 @@ impl GeometryLayer {
     }
 
     /// Step 9: isometry optimization, obstacle guard, vertex jump.
-    fn isometry(&mut self, sp: &mut PhysMesh, fixed: &[bool], obstacles: &Obstacles) {
+    fn isometry(&mut self, sp: &mut PhysMesh, fixed: &[bool], obstacles: &Obstacles, driven: bool) {
         self.out.max_vertex_jump_m = 0.0;
         let vmax2 = sp.vel.iter().map(|v| v.norm_squared()).fold(0.0, f64::max);
         let vlim = self.cfg.isometry.max_speed_m_s;
         self.out.isometry_reverted = false;
-        if !self.cfg.isometry.enabled || vmax2.is_nan() || vmax2 > vlim * vlim {
+        let idle = !driven
+            && self
+                .cfg
+                .isometry
+                .trigger_compression
+                .is_some_and(|c| Isometry::max_compression(sp) <= c);
+        if !self.cfg.isometry.enabled || idle || vmax2.is_nan() || vmax2 > vlim * vlim {
             self.out.isometry = IsometryReport::default();
             return;
         }
@@ -2173,7 +2187,7 @@ mod tests {
         );
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
         assert!(g.frame().singular.is_empty());
         assert!(
             g.frame()
@@ -2210,7 +2224,7 @@ mod tests {
         let mut g = layer(&sp);
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
         let f = g.frame();
         assert!(
             f.num_flat_regions >= 2,
@@ -2252,7 +2266,7 @@ mod tests {
         let mut g = layer(&sp);
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
         let f = g.frame();
         assert!(f.num_curved_regions >= 1);
         let big = f
@@ -2295,7 +2309,7 @@ mod tests {
             for &v in held {
                 fixed[v] = true;
             }
-            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
             sg.validate(&sp).unwrap();
             let mut count = [0usize; 5];
             for v in g.frame().sg_vertices(&sg, &sp) {
@@ -2352,7 +2366,7 @@ mod tests {
             }
             let mut g = layer(&sp);
             let fixed = vec![false; sp.num_vertices()];
-            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
             g.frame()
                 .singular
                 .iter()
@@ -2405,7 +2419,7 @@ mod tests {
         let mut g = layer(&sp);
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
         let f = g.frame();
         let flats: Vec<u32> = f
             .regions
@@ -2418,5 +2432,34 @@ mod tests {
         assert_eq!(flats.len(), 2, "{flats:?}");
         assert!(flats.iter().all(|&n| n >= 20), "{flats:?}");
         assert!((1..=3).contains(&fold), "{fold} fold regions");
+    }
+
+    /// The isometry step's trigger (isometry.rs "When it runs"): on a still sheet (no
+    /// gesture moving it) it runs only if some edge is compressed by more than 1 %; while a
+    /// gesture drives the sheet it runs every frame.
+    #[test]
+    fn isometry_runs_when_driven_or_compressed_beyond_the_trigger() {
+        let runs = |squeeze: f64, driven: bool| {
+            let (mut sp, mut sg) = sheet();
+            for i in 0..sp.num_vertices() {
+                sp.pos[i].x *= 1.0 - squeeze;
+            }
+            let mut g = GeometryLayer::new(
+                &sp,
+                GeometryConfig::default(),
+                &PaperMaterial::of(crate::control::Material::Printer),
+                1,
+            );
+            let fixed = vec![false; sp.num_vertices()];
+            let obstacles = Obstacles::new(&RoomConfig::default());
+            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, driven);
+            g.frame().isometry.phase1_iters > 0
+        };
+        assert!(
+            !runs(0.005, false),
+            "0.5 % on a still sheet: physics' equilibrium kept"
+        );
+        assert!(runs(0.005, true), "0.5 % while a gesture drives the sheet");
+        assert!(runs(0.02, false), "2 % on a still sheet");
     }
 }

@@ -609,6 +609,9 @@ impl Sim {
             self.rig.state.undo_streak = 0;
         }
         self.phase_ns.self_contact_ns = self.stopwatch.lap_ns();
+        // The gestures (not the sheet's pull on the hands) move the sheet this frame: the
+        // isometry step's trigger (geometry/isometry.rs "When it runs").
+        let driven = planes_moved || self.obstacles.is_moving() || self.rig.is_moving();
         let handles_moved = self.rig.advance_frame(
             dt,
             frame_scale,
@@ -653,6 +656,7 @@ impl Sim {
                 &self.fixed,
                 &self.obstacles,
                 self.frame,
+                driven,
             );
             self.sheet.sg.pull_positions(&self.sheet.sp);
         } else {

@@ -275,15 +275,20 @@ fn variants(quick: bool) -> Vec<Variant> {
     };
     v.push(iso_row(" (no isometry)", |i| i.enabled = false));
     if !quick {
+        // The seeds' schedule (isometry.rs "When it runs"): the step in every frame.
+        v.push(iso_row(" (isometry every frame)", |i| {
+            i.trigger_compression = None;
+        }));
         // The seeds' fixed Phase I iterations (no early stop): our former cap of 40, and
-        // theirs of 200.
+        // theirs of 200 in every frame, as they ran it.
         v.push(iso_row(" (isometry Phase I always 40 it.)", |i| {
             i.phase1_min_decrease = None;
         }));
-        v.push(iso_row(" (isometry 200 it.)", |i| {
+        v.push(iso_row(" (isometry every frame, 200 it.)", |i| {
             i.phase1_max_iters = 200;
             i.phase2_max_iters = 200;
             i.phase1_min_decrease = None;
+            i.trigger_compression = None;
         }));
         v.push(with_geometry(
             variant("density", SolverConfig::default(), mesh(1.0 / 13.0)),

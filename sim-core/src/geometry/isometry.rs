@@ -47,6 +47,24 @@
 //! above the physics alone. So an edge longer than its pattern length keeps its current length
 //! as its target ([`IsometryConfig::compression_only`]; off = the paper's symmetric targets).
 //!
+//! **When it runs** (impl. choice). The seeds run the step every frame. Here it runs in every
+//! frame in which a gesture or a moving obstacle drives the sheet, and otherwise only when
+//! some edge is compressed by more than 1 % of its pattern length
+//! ([`IsometryConfig::trigger_compression`], the threshold of the seeds' n_comp measure,
+//! TOG Table IV). A sheet left to itself settles into the physics' equilibrium, and that
+//! equilibrium is slightly compressed where hands hold it squeezed (the membrane is soft,
+//! `SolverConfig::stretch_scale`). Correcting those sub-percent compressions every frame
+//! fights the next physics step, which undoes them. The step moves positions, not
+//! velocities, so each correction comes back as a velocity kick. Measured on C5 held at the
+//! crumple cap (`examples/hold_probe.rs`, seed 5): with the step every frame, the held
+//! sheet kept moving at 0.3–0.6 m/s (largest vertex speed, mean per 50 frames) in a
+//! saw-tooth: compression built up over ~6 frames, then snapped back. It took ~9 Newton
+//! iterations per frame. With the trigger the step stops when the hands stop, and within
+//! 1 s the held sheet slows to 0.05 m/s at ~7 iterations per frame. What still moves it
+//! there is the crumple cap's pass-through guard (gesture_rig.rs "Crumple cap"). A sheet
+//! held at an intermediate squeeze comes to rest and sleeps either way. The bench report
+//! keeps an "isometry every frame" row for comparison.
+//!
 //! Everything is f64 (digest §10).
 
 use crate::math::V3;
@@ -78,6 +96,10 @@ pub struct IsometryConfig {
     /// the correction moves positions, not velocities; in violent motion that inconsistency
     /// let the next physics steps turn facets over in the stress runs).
     pub max_speed_m_s: f64,
+    /// In frames in which nothing drives the sheet, run only if some edge is compressed by
+    /// more than this fraction of its pattern length (see "When it runs" in the module doc);
+    /// `None` = every frame, as the seeds do.
+    pub trigger_compression: Option<f64>,
 }
 
 impl Default for IsometryConfig {
@@ -92,6 +114,7 @@ impl Default for IsometryConfig {
             proximity: 1e-3,
             compression_only: true,
             max_speed_m_s: 1.0,
+            trigger_compression: Some(0.01),
         }
     }
 }
@@ -205,6 +228,20 @@ impl Isometry {
             d: zv.clone(),
             q: zv,
         }
+    }
+
+    /// Largest compression of an edge of `sp` against its pattern length (1 − l/l̄; 0 if no
+    /// edge is shorter than its pattern length).
+    pub fn max_compression(sp: &PhysMesh) -> f64 {
+        sp.topo
+            .edges
+            .iter()
+            .zip(&sp.edge_rest_len_m)
+            .map(|(e, &rest)| {
+                let l = (sp.pos[e.v[1] as usize] - sp.pos[e.v[0] as usize]).norm();
+                if rest > 0.0 { 1.0 - l / rest } else { 0.0 }
+            })
+            .fold(0.0, f64::max)
     }
 
     /// Constraint values and gradients at the current `u` (normalized units).

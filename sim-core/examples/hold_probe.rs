@@ -1,0 +1,92 @@
+//! Development probe: plays a scenario (or a script file) and prints, per window of 50
+//! frames, the awake frames' mean step time and Newton iterations, the isometry step's mean
+//! largest displacement, the mean largest vertex speed and the singular count, then the
+//! frames undone by the pass-through guard. It shows whether a held sheet comes to rest.
+//!
+//! `hold_probe SCENARIO|FILE.toml [TRIGGER|every]` — TRIGGER sets
+//! `IsometryConfig::trigger_compression` (`every` = `None`, the step in every frame).
+
+use std::time::Instant;
+
+use sim_core::scenario;
+use sim_core::script::Script;
+use sim_core::script_runner::ScriptRunner;
+use sim_core::sim::{FrameOutput, SimConfig};
+
+/// Frames per printed window.
+const WINDOW: u64 = 50;
+
+#[derive(Clone, Copy, Default)]
+struct Window {
+    frames: u64,
+    step_ns: u128,
+    iterations: u64,
+    iso_disp_m: f64,
+    max_speed_m_s: f64,
+    singular: u32,
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let name = args.first().map_or("c5_full_crumple", String::as_str);
+    let script = if name.ends_with(".toml") {
+        Script::from_file(std::path::Path::new(name)).expect("script file")
+    } else {
+        scenario::get(name).expect("scenario")
+    };
+    let mut cfg = SimConfig::default();
+    if let Some(t) = args.get(1) {
+        cfg.geometry.isometry.trigger_compression = t.parse().ok();
+    }
+    let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
+    let mut sim = runner.start(cfg);
+    let mut out = FrameOutput::default();
+    let mut cmds = Vec::new();
+    let mut windows: Vec<Window> = Vec::new();
+    let mut undone = 0u64;
+    while {
+        cmds.clear();
+        runner.next_frame(&mut cmds)
+    } {
+        for c in cmds.drain(..) {
+            sim.apply(c);
+        }
+        let awake = !sim.is_asleep();
+        let t0 = Instant::now();
+        sim.step(&mut out);
+        let step_ns = t0.elapsed().as_nanos();
+        if !awake {
+            continue;
+        }
+        let k = (out.sound.frame / WINDOW) as usize;
+        if windows.len() <= k {
+            windows.resize(k + 1, Window::default());
+        }
+        let w = &mut windows[k];
+        w.frames += 1;
+        w.step_ns += step_ns;
+        w.iterations += u64::from(out.stats.iterations);
+        w.iso_disp_m += sim.geometry().isometry.max_disp_m;
+        w.max_speed_m_s += f64::from(out.stats.max_speed_m_s);
+        w.singular = out.stats.num_singular;
+        undone += u64::from(out.stats.undo_streak > 0);
+    }
+    for (k, w) in windows.iter().enumerate() {
+        if w.frames == 0 {
+            continue;
+        }
+        let n = w.frames as f64;
+        println!(
+            "frames {:4}–{:4}: awake {:3}  step {:.3} ms  Newton it. {:5.2}  isometry {:6.1} µm  vmax {:.4} m/s  singular {}",
+            k as u64 * WINDOW,
+            (k as u64 + 1) * WINDOW,
+            w.frames,
+            w.step_ns as f64 / n / 1e6,
+            w.iterations as f64 / n,
+            w.iso_disp_m / n * 1e6,
+            w.max_speed_m_s / n,
+            w.singular
+        );
+    }
+    println!("{name}: {undone} frames undone by the pass-through guard");
+}
