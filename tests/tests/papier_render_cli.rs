@@ -472,12 +472,13 @@ fn every_scene_plays_from_its_midi_performance() {
             "{name}: sheet moves up to {moved:.1} cm; MIDI vs scene: mean {mean:.2} cm, worst {worst:.2} cm"
         );
         assert!(moved > 1.0, "{name}: the scene does not move the sheet");
-        // The full crumple is chaotic: the MIDI performance's 7-bit crumple values differ from
+        // The crumples are chaotic: the MIDI performance's 7-bit crumple values differ from
         // the script's by up to 0.4 %, enough to change where the sheet buckles first and how
-        // far the squeeze gets (its singular count varies 8–24 with the seed,
-        // sim-core/tests/geometry.rs). Measured: mean 2.4 cm, worst 3.3 cm of 8.4 cm. The
-        // other scenes follow the script closely (mean ≤ 0.7 cm).
-        let mean_frac = if name == "c5_full_crumple" {
+        // far the squeeze gets (C5's singular count varies 8–22 with the seed,
+        // sim-core/tests/geometry.rs). Measured: C5 mean 2.2 cm, worst 3.4 cm of 9.0 cm; S4
+        // mean 2.0 cm, worst 3.1 cm of 9.1 cm. The other scenes follow the script closely
+        // (mean ≤ 0.7 cm).
+        let mean_frac = if matches!(name.as_str(), "c5_full_crumple" | "s4_crumple") {
             0.35
         } else {
             0.25
