@@ -41,21 +41,16 @@ fn main() {
     let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
     let mut sim = runner.start(cfg);
     let mut out = FrameOutput::default();
-    let mut cmds = Vec::new();
     let mut windows: Vec<Window> = Vec::new();
     let mut undone = 0u64;
-    while {
-        cmds.clear();
-        runner.next_frame(&mut cmds)
-    } {
-        for c in cmds.drain(..) {
-            sim.apply(c);
-        }
-        let awake = !sim.is_asleep();
+    loop {
         let t0 = Instant::now();
-        sim.step(&mut out);
+        if !runner.drive(&mut sim, &mut out) {
+            break;
+        }
+        // The step time includes applying the frame's commands (negligible).
         let step_ns = t0.elapsed().as_nanos();
-        if !awake {
+        if out.stats.asleep {
             continue;
         }
         let k = (out.sound.frame / WINDOW) as usize;
