@@ -2390,7 +2390,7 @@ mod tests {
         let f = run(&cone);
         let gap_max = 1.0 / RHO_BOUND_PER_M + 1e-9;
         let on_edge = |p: V2| 0.05 - p.x.abs().max(p.y.abs()) < 1e-9;
-        let (mut checked, mut gaps, mut short, mut edge_gaps) = (0, 0, 0, 0);
+        let (mut checked, mut gaps, mut short, mut edge_gaps, mut edge_short) = (0, 0, 0, 0, 0);
         // (A stray curved triangle at the border may form a one-ruling region of its own.)
         for c in f
             .cones
@@ -2419,9 +2419,12 @@ mod tests {
                         && ((e.x - g.x).abs() < 1e-9 || (e.y - g.y).abs() < 1e-9);
                     if same_edge {
                         edge_gaps += 1;
+                        edge_short += usize::from(gap <= gap_max);
+                        // Rulings planned on a chord across a corner land a little farther
+                        // apart on the border (module doc).
                         assert!(
-                            gap <= gap_max,
-                            "gap {gap} m on the sheet edge at ruling {k}"
+                            gap <= 1.25 * gap_max,
+                            "gap {gap} m on the sheet edge at ruling {k}: {e:?} {g:?}"
                         );
                     }
                 }
@@ -2430,6 +2433,10 @@ mod tests {
         // Inside the sheet, a region's border is ragged where a crease cuts into it, and
         // neighbouring rulings end at different depths: most gaps still meet 1/ρ.
         assert!(edge_gaps >= 10, "{edge_gaps} gaps on the sheet edge");
+        assert!(
+            10 * edge_short >= 9 * edge_gaps,
+            "{edge_short} of {edge_gaps} gaps on the sheet edge ≤ 1/ρ"
+        );
         assert!(
             10 * short >= 8 * gaps,
             "{short} of {gaps} border gaps ≤ 1/ρ"
