@@ -137,7 +137,11 @@
 //! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
 //!   triangulation of a flat region show a fold across its other diagonal; here flat regions
 //!   are unions of S_P triangles whose own edges carry every fold, so there is no coarse
-//!   triangulation to flip (and S_P's connectivity is kept, above).
+//!   triangulation to flip (and S_P's connectivity is kept, above). Nor would S_P gain from
+//!   flips: it is a near-equilateral lattice ([`crate::sheet::pattern::lattice`]) whose edges
+//!   run in three directions 60° apart, and flipping any interior edge turns its two ~60°
+//!   triangles into a 30°–30°–120° pair with a √3-times longer edge, which a mesh-quality
+//!   guard must refuse.
 //! - **Curvature analysis on the fine mesh** replaces the seeds' per-region ruling bookkeeping:
 //!   region classification uses the discrete shape operator with the seeds' thresholds.
 //!

@@ -24,7 +24,7 @@
 //!
 //! Home pose = the pattern position of the hand's reference point (the centroid of its handle
 //! vertices) at the table-top height, flat frame. Then:
-//! - **slide** s ∈ [0,1]: towards the sheet centre along the inward normal of the handle's own
+//! - **slide** s ∈ \[0, 1\]: towards the sheet centre along the inward normal of the handle's own
 //!   edge by s·span/4 (span = the sheet's extent across that edge: the length for back/front,
 //!   the width for left/right; corners move diagonally by (W/4, L/4)·s). Back + front held →
 //!   the edges approach (the sheet curves up, S1/C1); front only → the front edge pushes the
@@ -33,7 +33,7 @@
 //!   would leave its ends for that approach ([`arc_half_angle`]), so the sheet bows upwards:
 //!   a perfectly flat sheet pressed on the table is a symmetric equilibrium that the implicit
 //!   solver would otherwise keep, compressing the sheet in-plane instead of bending it.
-//! - **lift** ℓ ∈ [0,1]: the front group (the front-edge hand and the two front corners) rises
+//! - **lift** ℓ ∈ \[0, 1\]: the front group (the front-edge hand and the two front corners) rises
 //!   by ℓ·L/2. The left and right hands hold the front *and* the back part of their edge
 //!   rigidly, so they pivot about their back finger until the front finger has risen by ℓ·L/2
 //!   (angle asin ℓ) — raising one finger of a rigid pinch by L/2 and not the other would have to
@@ -45,7 +45,7 @@
 //!   and right hands do not twist (they span both sides of the front/back divide).
 //! - **shake** d, f: every active handle moves vertically by `d·0.05·L·sin(φ)`, φ advancing by
 //!   2π·f·dt each frame (a continuous phase, so rate changes do not jump).
-//! - **crumple** c ∈ [0,1]: while c > 0, 8 boundary points (4 corners + 4 edge midpoints)
+//! - **crumple** c ∈ \[0, 1\]: while c > 0, 8 boundary points (4 corners + 4 edge midpoints)
 //!   become handles ("two hands squeezing") whose targets move towards the centre,
 //!   `centre + (1 − c·k)(p − centre)` with k = [`CRUMPLE_CAP`], plus a seeded jitter, a lift of
 //!   ≈ c·0.1·L and a tilt of the frame (inner side up, c·[`CRUMPLE_TILT_RAD`]). They are
