@@ -2224,6 +2224,19 @@ mod tests {
         )
     }
 
+    /// The layer's frame for the test sheet placed on `shape` (pattern → 3D), no vertex held.
+    fn shaped_frame(shape: &dyn Fn(V2) -> V3) -> GeometryFrame {
+        let (mut sp, mut sg) = sheet();
+        for i in 0..sp.num_vertices() {
+            sp.pos[i] = shape(sp.pattern[i]);
+        }
+        let mut g = layer(&sp);
+        let fixed = vec![false; sp.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
+        g.frame().clone()
+    }
+
     fn centre_triangle(sp: &PhysMesh, p: V2) -> usize {
         use crate::sheet::pattern::signed_area as sa;
         (0..sp.num_triangles())
@@ -2371,17 +2384,7 @@ mod tests {
     /// cylinder's rulings come out parallel.
     #[test]
     fn rulings_are_realigned_to_their_cone_and_the_border_resampled() {
-        let obstacles = Obstacles::new(&RoomConfig::default());
-        let run = |shape: &dyn Fn(V2) -> V3| {
-            let (mut sp, mut sg) = sheet();
-            for i in 0..sp.num_vertices() {
-                sp.pos[i] = shape(sp.pattern[i]);
-            }
-            let mut g = layer(&sp);
-            let fixed = vec![false; sp.num_vertices()];
-            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
-            g.frame().clone()
-        };
+        let run = shaped_frame;
         // A circular cone of half-angle α with its apex at the origin, unrolled about the
         // pattern point `apex`: generator angle φ → ψ = φ / sin α around the axis (isometric).
         let apex = V2::new(-0.15, 0.0);
@@ -2555,16 +2558,8 @@ mod tests {
     /// roof, z = a(|x| + |y|)) gets one at the crossing.
     #[test]
     fn crossing_bends_make_a_singular_vertex_and_a_cylinder_does_not() {
-        let obstacles = Obstacles::new(&RoomConfig::default());
         let run = |shape: &dyn Fn(V2) -> V3| {
-            let (mut sp, mut sg) = sheet();
-            for i in 0..sp.num_vertices() {
-                sp.pos[i] = shape(sp.pattern[i]);
-            }
-            let mut g = layer(&sp);
-            let fixed = vec![false; sp.num_vertices()];
-            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
-            g.frame()
+            shaped_frame(shape)
                 .singular
                 .iter()
                 .filter(|s| s.case == SingularCase::NonDevelopable)
