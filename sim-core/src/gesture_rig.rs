@@ -63,8 +63,9 @@
 //! pinch holds only so much: each finger (handle) holds at most `1 + 4·grip` N
 //! ([`grip_force_n`]); when the elastic pull of the sheet on the held vertices of a hand
 //! exceeds the sum of its fingers' grips, the hand gives way along the pull (by
-//! [`HAND_COMPLIANCE_M_N`] per newton of excess, at most the travel clamp) and does not advance
-//! in the next frame. Gravity and ordinary bending pull with millinewtons, so
+//! [`HAND_COMPLIANCE_M_N`] per newton of excess, at most the travel clamp) and stays there
+//! while its target stays put ([`crate::handles::HandState::advance`]): it settles where the
+//! pull is within its grip. Gravity and ordinary bending pull with millinewtons, so
 //! this only acts on contradictory gestures, and it bounds the strain they can cause.
 //!
 //! **Crumple cap.** Without sheet–sheet contact (a later issue) the squeeze must stop before the

@@ -298,6 +298,11 @@ pub struct HandState {
     /// by every slip, recovering by 10 % per frame without one, so a hand pushing against a
     /// contradiction creeps at the rate the sheet allows instead of jerking back and forth.
     pub caution: f64,
+    /// The target the hand was heading for when it last gave way: while its target stays
+    /// there, the hand stays where the sheet pushed it (see [`HandState::advance`]). Saves
+    /// from before this field load as `None` (the hand moves on, as it did then).
+    #[serde(default)]
+    pub yielded_to: Option<Pose>,
 }
 
 impl HandState {
@@ -341,6 +346,7 @@ impl HandState {
             speed_m_s,
             slipping: false,
             caution: 1.0,
+            yielded_to: None,
         }
     }
 
@@ -352,12 +358,27 @@ impl HandState {
     /// Moves the pose one frame towards `target`, at most `min(speed × dt, clamp_m)` of travel
     /// (scaled by the caution after slips) and `max_angle_rad` of rotation. Returns true if
     /// anything moved.
+    ///
+    /// A hand that gave way (the sheet pulled harder than its grip) stays where the sheet
+    /// pushed it for as long as its target stays put: it settles where the pull is within its
+    /// grip, as a hand holding a crumpled ball does. It moves on when the target moves (a
+    /// gesture changes). Before (measured on the full crumple, C5): a hand that had given way
+    /// crept back towards the same target, was pushed out again every 4–8 frames, and the
+    /// held ball never came to rest (vertex speeds ~5 cm/s for the whole hold, 7–10 solver
+    /// iterations per frame).
     pub fn advance(&mut self, target: &Pose, dt_s: f64, clamp_m: f64, max_angle_rad: f64) -> bool {
         self.prev_pose = self.pose;
         if self.slipping {
             self.slipping = false;
             self.caution = (self.caution * 0.5).max(1.0 / 64.0);
+            self.yielded_to = Some(*target);
             return true;
+        }
+        if let Some(t) = self.yielded_to {
+            if same_pose(&t, target) {
+                return false;
+            }
+            self.yielded_to = None;
         }
         self.caution = (self.caution * 1.1).min(1.0);
         let max_step = (self.speed_m_s * dt_s).min(clamp_m) * self.caution;
@@ -400,6 +421,18 @@ impl HandState {
         p + r * V3::from(self.offsets_m[k])
     }
 }
+
+/// True if two poses are the same within [`SAME_POSE_M`] of travel and [`SAME_POSE_RAD`] of
+/// rotation (a target recomputed from unchanged gestures).
+fn same_pose(a: &Pose, b: &Pose) -> bool {
+    (a.pos() - b.pos()).norm() <= SAME_POSE_M
+        && a.rotation().angle_to(&b.rotation()) <= SAME_POSE_RAD
+}
+
+/// Travel below which a hand's target counts as unchanged, metres.
+pub const SAME_POSE_M: f64 = 1e-7;
+/// Rotation below which a hand's target counts as unchanged, radians.
+pub const SAME_POSE_RAD: f64 = 1e-6;
 
 /// Rotation that best maps the pattern offsets of the held vertices onto their current
 /// offsets from `reference` (Kabsch: closest rotation to the 3×3 covariance), with a normal
@@ -524,5 +557,43 @@ mod tests {
         crushed[n0] = crushed[m] + (crushed[n0] - crushed[m]) * 0.5;
         let h2 = HandState::grab(&hand, &crushed, 1.0);
         assert!(!h2.holds(k) && h2.holds(k + 1) && h2.holds(0));
+    }
+
+    /// A hand that gave way stays where the sheet pushed it while its target stays put (it
+    /// does not creep back into the same push), and moves on when the target moves.
+    #[test]
+    fn a_hand_that_gave_way_stays_until_its_target_moves() {
+        let s = sheet();
+        let v = s.nearest_vertex(V2::new(0.0, 0.0), false);
+        let hand = HandDef::new(&s, &[HandleDef::at_vertex(&s, v)]);
+        let mut h = HandState::grab(&hand, &s.sp.pos, 1.0);
+        let target = Pose::new(h.pose.pos() + V3::new(0.0, 0.0, -0.002), h.pose.rotation());
+        // Pushed 1 mm away from the target (what `GestureRig::apply_slip` does).
+        h.pose = Pose::new(h.pose.pos() + V3::new(0.0, 0.0, 0.001), h.pose.rotation());
+        h.slipping = true;
+        let pushed = h.pose;
+        assert!(
+            h.advance(&target, 0.005, 0.006, 0.05),
+            "the slip frame counts as motion"
+        );
+        for _ in 0..50 {
+            assert!(!h.advance(&target, 0.005, 0.006, 0.05));
+            assert_eq!(
+                h.pose, pushed,
+                "the hand crept back towards the same target"
+            );
+        }
+        // A target recomputed with rounding noise is the same target.
+        let noisy = Pose::new(target.pos() + V3::new(1e-9, 0.0, 0.0), target.rotation());
+        assert!(!h.advance(&noisy, 0.005, 0.006, 0.05));
+        // A gesture moves the target: the hand moves on (at its cautious speed) and reaches it.
+        let moved = Pose::new(target.pos() + V3::new(0.001, 0.0, 0.0), target.rotation());
+        let mut frames = 0;
+        while h.advance(&moved, 0.005, 0.006, 0.05) {
+            frames += 1;
+            assert!(frames < 1000);
+        }
+        assert!((h.pose.pos() - moved.pos()).norm() < 1e-12);
+        assert_eq!(h.yielded_to, None);
     }
 }

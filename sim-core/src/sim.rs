@@ -666,6 +666,7 @@ impl Sim {
         if guard {
             if self.undo_pass_through(frame_scale) {
                 self.sheet.sg.pull_positions(&self.sheet.sp);
+                self.geometry.sync_positions(&self.sheet.sp);
                 self.rig.state.undo_streak += 1;
             } else {
                 self.rig.state.undo_streak = 0;

@@ -258,6 +258,12 @@ impl SavedSheet {
             for c in nums {
                 ok &= finite(*c) && c.abs() <= ROOM_BOX_HALF_M;
             }
+            if let Some(t) = &h.yielded_to {
+                for c in &t.pos_m {
+                    ok &= finite(*c) && c.abs() <= ROOM_BOX_HALF_M;
+                }
+                ok &= t.rot.iter().all(|c| finite(*c));
+            }
             for q in [h.pose.rot, h.prev_pose.rot] {
                 let n2: f64 = q.iter().map(|c| c * c).sum();
                 ok &= finite(n2) && (n2 - 1.0).abs() < 1e-6;
