@@ -2137,6 +2137,7 @@ impl GeometryLayer {
         // one it already met (isometry.rs "When it runs"): a compression the physics rebuilt
         // after the last undriven run is the hands' doing, and correcting it again each frame
         // only feeds a correction–rebuild cycle.
+        let mut undriven_comp = None;
         let idle = if driven {
             self.iso_undriven_compression = 0.0;
             false
@@ -2145,11 +2146,9 @@ impl GeometryLayer {
             if comp <= c {
                 self.iso_undriven_compression = 0.0;
                 true
-            } else if comp <= ISO_REBUILT_FACTOR * self.iso_undriven_compression {
-                true
             } else {
-                self.iso_undriven_compression = comp;
-                false
+                undriven_comp = Some(comp);
+                comp <= ISO_REBUILT_FACTOR * self.iso_undriven_compression
             }
         } else {
             false
@@ -2157,6 +2156,10 @@ impl GeometryLayer {
         if !self.cfg.isometry.enabled || idle || vmax2.is_nan() || vmax2 > vlim * vlim {
             self.out.isometry = IsometryReport::default();
             return;
+        }
+        // Only a compression the step actually met counts as met (not one skipped for speed).
+        if let Some(comp) = undriven_comp {
+            self.iso_undriven_compression = comp;
         }
         self.pos_before.copy_from_slice(&sp.pos);
         self.out.isometry = self.iso.run(sp, fixed, &self.cfg.isometry);
