@@ -2667,27 +2667,62 @@ mod tests {
         assert!((1..=3).contains(&fold), "{fold} fold regions");
     }
 
-    /// The isometry step's trigger (isometry.rs "When it runs"): on a still sheet (no
-    /// gesture moving it) it runs only if some edge is compressed by more than 1 %; while a
-    /// gesture drives the sheet it runs every frame.
-    #[test]
-    fn isometry_runs_when_driven_or_compressed_beyond_the_trigger() {
-        let runs = |squeeze: f64, driven: bool| {
-            let (mut sp, mut sg) = sheet();
-            for i in 0..sp.num_vertices() {
-                sp.pos[i].x *= 1.0 - squeeze;
-            }
-            let mut g = GeometryLayer::new(
+    /// A test sheet with the default layer (isometry on), squeezed along x and stepped one
+    /// still or driven frame at a time.
+    struct IsoRig {
+        sp: PhysMesh,
+        sg: GeomStructure,
+        flat: Vec<V3>,
+        layer: GeometryLayer,
+        frame: u64,
+    }
+
+    impl IsoRig {
+        fn new() -> Self {
+            let (sp, sg) = sheet();
+            let layer = GeometryLayer::new(
                 &sp,
                 GeometryConfig::default(),
                 &PaperMaterial::of(crate::control::Material::Printer),
                 1,
             );
-            let fixed = vec![false; sp.num_vertices()];
+            let flat = sp.pos.clone();
+            Self {
+                sp,
+                sg,
+                flat,
+                layer,
+                frame: 0,
+            }
+        }
+
+        /// Places the sheet squeezed by `squeeze` along x, runs one frame and returns whether
+        /// the isometry step ran.
+        fn runs(&mut self, squeeze: f64, driven: bool) -> bool {
+            for (p, q) in self.sp.pos.iter_mut().zip(&self.flat) {
+                *p = V3::new(q.x * (1.0 - squeeze), q.y, q.z);
+            }
+            self.frame += 1;
+            let fixed = vec![false; self.sp.num_vertices()];
             let obstacles = Obstacles::new(&RoomConfig::default());
-            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, driven);
-            g.frame().isometry.phase1_iters > 0
-        };
+            self.layer.update(
+                &mut self.sp,
+                &mut self.sg,
+                &fixed,
+                &obstacles,
+                self.frame,
+                driven,
+            );
+            self.layer.frame().isometry.phase1_iters > 0
+        }
+    }
+
+    /// The isometry step's trigger (isometry.rs "When it runs"): on a still sheet (no
+    /// gesture moving it) it runs only if some edge is compressed by more than 1 %; while a
+    /// gesture drives the sheet it runs every frame.
+    #[test]
+    fn isometry_runs_when_driven_or_compressed_beyond_the_trigger() {
+        let runs = |squeeze: f64, driven: bool| IsoRig::new().runs(squeeze, driven);
         assert!(
             !runs(0.005, false),
             "0.5 % on a still sheet: physics' equilibrium kept"
@@ -2701,25 +2736,8 @@ mod tests {
     /// a driven frame or a relief below the trigger does.
     #[test]
     fn isometry_skips_a_compression_it_already_met() {
-        let (mut sp, mut sg) = sheet();
-        let flat = sp.pos.clone();
-        let mut g = GeometryLayer::new(
-            &sp,
-            GeometryConfig::default(),
-            &PaperMaterial::of(crate::control::Material::Printer),
-            1,
-        );
-        let fixed = vec![false; sp.num_vertices()];
-        let obstacles = Obstacles::new(&RoomConfig::default());
-        let mut frame = 0;
-        let mut runs = |squeeze: f64, driven: bool| {
-            for (p, q) in sp.pos.iter_mut().zip(&flat) {
-                *p = V3::new(q.x * (1.0 - squeeze), q.y, q.z);
-            }
-            frame += 1;
-            g.update(&mut sp, &mut sg, &fixed, &obstacles, frame, driven);
-            g.frame().isometry.phase1_iters > 0
-        };
+        let mut rig = IsoRig::new();
+        let mut runs = |squeeze: f64, driven: bool| rig.runs(squeeze, driven);
         assert!(runs(0.02, false), "first undriven 2 %");
         assert!(!runs(0.02, false), "the same 2 % rebuilt");
         assert!(!runs(0.021, false), "5 % more");
