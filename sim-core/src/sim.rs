@@ -215,6 +215,9 @@ pub struct Sim {
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
     frame_start_pos: Vec<V3>,
+    /// S_P pattern at the start of the frame (kept with `frame_start_pos`): a singular point
+    /// placed in a frame that is then undone has moved a vertex in the pattern.
+    frame_start_pattern: Vec<V2>,
     /// S_P positions before the contact depth limit of a substep.
     pre_limit_pos: Vec<V3>,
     /// Whether `step` reads the clock between its phases (benchmarks).
@@ -284,6 +287,7 @@ impl Sim {
             analysis,
             proximity: SelfProximity::with_capacity(mesh_capacity.1),
             frame_start_pos: Vec::with_capacity(mesh_capacity.0),
+            frame_start_pattern: Vec::with_capacity(mesh_capacity.0),
             pre_limit_pos: Vec::with_capacity(mesh_capacity.0),
             phase_timing: false,
             stopwatch: Stopwatch::default(),
@@ -513,15 +517,33 @@ impl Sim {
     /// their neighbours moved on would strain the sheet by up to the frame's travel over an
     /// edge (measured: strain 0.4–2.4). Returns true if the frame was undone.
     fn undo_pass_through(&mut self, frame_scale: f64) -> bool {
-        let sp = &mut self.sheet.sp;
-        if !self.proximity.any_crossing(sp) {
+        if !self.proximity.any_crossing(&self.sheet.sp) {
             return false;
         }
-        sp.pos.clone_from(&self.frame_start_pos);
-        sp.vel.fill(V3::zeros());
+        self.restore_frame_start();
         self.rig.undo_frame_motion();
         self.rig.limit_squeeze(0.0, frame_scale);
         true
+    }
+
+    /// S_P back to the frame's start, at rest. The pattern is not restored: a singular point
+    /// placed this frame is persistent, and the vertex it moved in the pattern
+    /// (`PhysMesh::move_pattern_vertex`) goes to the restored surface over its new pattern
+    /// position, as the move put it on the simulated one. Restoring its old 3D point instead
+    /// left it up to an edge away from where its rest shape puts it (a long stress run:
+    /// strain 1.02 after a 1.2 cm move).
+    fn restore_frame_start(&mut self) {
+        let sp = &mut self.sheet.sp;
+        sp.pos.clone_from(&self.frame_start_pos);
+        sp.vel.fill(V3::zeros());
+        for v in 0..sp.pos.len() {
+            let (old, new) = (self.frame_start_pattern[v], sp.pattern[v]);
+            if old != new
+                && let Some(x) = sp.surface_point_over(v as u32, old, new)
+            {
+                sp.pos[v] = x;
+            }
+        }
     }
 
     /// The contact depth limit (collision.rs "Depth limit") after a substep, without turning
@@ -603,6 +625,7 @@ impl Sim {
                 && (closest_m > 0.0 || !self.proximity.any_crossing(&self.sheet.sp));
             if guard {
                 self.frame_start_pos.clone_from(&self.sheet.sp.pos);
+                self.frame_start_pattern.clone_from(&self.sheet.sp.pattern);
             }
         }
         if !guard {
@@ -920,6 +943,49 @@ fn mesh_capacity_for(cfg: &SimConfig) -> (usize, usize) {
 mod tests {
     use super::*;
     use crate::control::GrabSlot;
+
+    /// An undone frame in which a singular point moved a vertex in the pattern leaves that
+    /// vertex on the restored surface over its new pattern position, not at its old 3D point
+    /// an edge fraction away from its rest shape.
+    #[test]
+    fn an_undone_frame_keeps_a_pattern_move_on_the_surface() {
+        let mut sim = Sim::new(SimConfig::default());
+        let mut out = FrameOutput::default();
+        sim.apply(Command::Gesture {
+            param: GestureParam::Crumple,
+            value: 0.4,
+        });
+        for _ in 0..120 {
+            sim.step(&mut out);
+        }
+        sim.frame_start_pos.clone_from(&sim.sheet.sp.pos);
+        sim.frame_start_pattern.clone_from(&sim.sheet.sp.pattern);
+        let strain_at_start = MetricsTracker::new(&sim.sheet.sp)
+            .compute(&sim.sheet.sp)
+            .max_strain;
+        sim.step(&mut out);
+        // Half an edge, as a placement does, at the first interior, free vertex that can move.
+        let sp = &mut sim.sheet.sp;
+        let edge_m = sp.edge_rest_len_m.iter().sum::<f64>() / sp.num_edges() as f64;
+        let moved = (0..sp.num_vertices()).find_map(|v| {
+            if sim.fixed[v] {
+                return None;
+            }
+            let target = sp.pattern[v] + V2::new(0.5 * edge_m, 0.0);
+            let d = sp.move_pattern_vertex(v as u32, target);
+            (d.norm() > 0.2 * edge_m).then_some(v)
+        });
+        let v = moved.expect("a vertex that can move in the pattern");
+        sim.restore_frame_start();
+        let strain = MetricsTracker::new(&sim.sheet.sp)
+            .compute(&sim.sheet.sp)
+            .max_strain;
+        assert!(
+            strain < strain_at_start + 0.05,
+            "vertex {v} moved: strain {strain:.3} (at the frame start {strain_at_start:.3})"
+        );
+        assert!(sim.sheet.sp.vel.iter().all(|u| *u == V3::zeros()));
+    }
 
     #[test]
     fn held_front_edge_follows_lift() {

@@ -203,6 +203,34 @@ impl PhysMesh {
         self.topo.edges.len()
     }
 
+    /// The point of the current surface over pattern point `p` near vertex `v`, with `v` taken
+    /// at pattern position `v_pattern` (its position before a move): barycentric in the
+    /// triangle of `v`'s star that contains `p`, or comes closest to. `None` for an isolated
+    /// vertex.
+    pub fn surface_point_over(&self, v: u32, v_pattern: V2, p: V2) -> Option<V3> {
+        let at = |i: u32| {
+            if i == v {
+                v_pattern
+            } else {
+                self.pattern[i as usize]
+            }
+        };
+        let mut best: Option<(f64, V3)> = None;
+        for tri in self.triangles.iter().filter(|t| t.contains(&v)) {
+            let [a, b, c] = tri.map(at);
+            let det = (b - a).perp(&(c - a));
+            let l1 = (p - a).perp(&(c - a)) / det;
+            let l2 = (b - a).perp(&(p - a)) / det;
+            let l0 = 1.0 - l1 - l2;
+            let inside = l0.min(l1).min(l2);
+            if best.is_none_or(|(m, _)| inside > m) {
+                let [x0, x1, x2] = tri.map(|i| self.pos[i as usize]);
+                best = Some((inside, x0 * l0 + x1 * l1 + x2 * l2));
+            }
+        }
+        best.map(|(_, x)| x)
+    }
+
     /// Moves interior vertex `v` of the pattern towards `target` (a singular point's drawn
     /// position, thesis §2.4.3: s̄ is fixed in the pattern), as far as the triangles around
     /// it stay well shaped: the full move, else half, else a quarter, else none. The vertex's
@@ -220,27 +248,6 @@ impl PhysMesh {
             return V2::zeros();
         }
         let old = self.pattern[vi];
-        // 3D point of the current surface over pattern point `p` (barycentric in the star
-        // triangle of the old pattern that contains it, or comes closest to).
-        let lift = |mesh: &Self, p: V2| {
-            let mut best: Option<(f64, V3)> = None;
-            for tri in &mesh.triangles {
-                if !tri.contains(&v) {
-                    continue;
-                }
-                let [a, b, c] = tri.map(|i| mesh.pattern[i as usize]);
-                let det = (b - a).perp(&(c - a));
-                let l1 = (p - a).perp(&(c - a)) / det;
-                let l2 = (b - a).perp(&(p - a)) / det;
-                let l0 = 1.0 - l1 - l2;
-                let inside = l0.min(l1).min(l2);
-                if best.is_none_or(|(m, _)| inside > m) {
-                    let [x0, x1, x2] = tri.map(|i| mesh.pos[i as usize]);
-                    best = Some((inside, x0 * l0 + x1 * l1 + x2 * l2));
-                }
-            }
-            best.map(|(_, x)| x)
-        };
         // Every triangle around v keeps 40–250 % of its pattern area, and over the current
         // surface keeps its orientation and stretches or shrinks by less than 2 %.
         let fits = |mesh: &Self, p: V2, x: V3| {
@@ -274,7 +281,7 @@ impl PhysMesh {
         };
         let Some((p, x)) = [1.0, 0.5, 0.25].into_iter().find_map(|f| {
             let p = old + (target - old) * f;
-            let x = lift(self, p)?;
+            let x = self.surface_point_over(v, old, p)?;
             (x.iter().all(|c| c.is_finite()) && fits(self, p, x)).then_some((p, x))
         }) else {
             return V2::zeros();
