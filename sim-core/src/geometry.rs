@@ -1019,7 +1019,10 @@ impl GeometryLayer {
 
     /// Runs steps (d)–(h) on an awake frame. `fixed`: vertices held this frame (kept in place
     /// by the isometry step). `driven`: a hand or an obstacle moved the sheet this frame (the
-    /// isometry step's trigger, [`IsometryConfig::trigger_compression`]).
+    /// isometry step's trigger, [`IsometryConfig::trigger_compression`]). `start_normals`:
+    /// the triangles' unit normals at the start of the frame, from which the physics never
+    /// turns a triangle over, and neither may the isometry step (empty: no such reference).
+    #[allow(clippy::too_many_arguments)] // the frame loop's state, passed explicitly
     pub fn update(
         &mut self,
         sp: &mut PhysMesh,
@@ -1028,6 +1031,7 @@ impl GeometryLayer {
         obstacles: &Obstacles,
         frame: u64,
         driven: bool,
+        start_normals: &[V3],
     ) {
         self.frames_processed += 1;
         self.out.frame = frame;
@@ -1055,7 +1059,7 @@ impl GeometryLayer {
         self.trace_rulings(sp);
         self.fit_cones();
         self.realign_rulings(sp);
-        self.isometry(sp, fixed, obstacles, driven);
+        self.isometry(sp, fixed, obstacles, driven, start_normals);
         self.sync_positions(sp);
     }
 
@@ -2128,7 +2132,14 @@ impl GeometryLayer {
     }
 
     /// Step 9: isometry optimization, obstacle guard, vertex jump.
-    fn isometry(&mut self, sp: &mut PhysMesh, fixed: &[bool], obstacles: &Obstacles, driven: bool) {
+    fn isometry(
+        &mut self,
+        sp: &mut PhysMesh,
+        fixed: &[bool],
+        obstacles: &Obstacles,
+        driven: bool,
+        start_normals: &[V3],
+    ) {
         self.out.max_vertex_jump_m = 0.0;
         let vmax2 = sp.vel.iter().map(|v| v.norm_squared()).fold(0.0, f64::max);
         let vlim = self.cfg.isometry.max_speed_m_s;
@@ -2190,13 +2201,18 @@ impl GeometryLayer {
         }
         // Never turn a facet far: if any normal turned by more than ISO_MAX_TURN (or
         // reversed), the frame keeps the physics' positions (a sharp local correction is what
-        // destabilizes the next physics step, P 1170–1171).
+        // destabilizes the next physics step, P 1170–1171). Nor turn one over from the frame's
+        // start: the physics' line search stops a triangle at 90° from there (a stress storm:
+        // 37 halvings), and a small turn on top of that made it the stress run's flip.
         self.out.isometry_reverted = false;
+        let reference = (start_normals.len() == sp.triangles.len()).then_some(start_normals);
         for (t, tri) in sp.triangles.iter().enumerate() {
             let x = tri.map(|i| sp.pos[i as usize]);
             let n = (x[1] - x[0]).cross(&(x[2] - x[0]));
             let c = n.dot(&self.tri_normal[t]);
-            if c.is_nan() || c <= ISO_MAX_TURN_COS * n.norm() {
+            let turned_over = reference
+                .is_some_and(|r| n.dot(&r[t]) < 0.0 && self.tri_normal[t].dot(&r[t]) >= 0.0);
+            if c.is_nan() || c <= ISO_MAX_TURN_COS * n.norm() || turned_over {
                 self.out.isometry_reverted = true;
                 break;
             }
@@ -2274,7 +2290,7 @@ mod tests {
         let mut g = layer(&sp);
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
         g.frame().clone()
     }
 
@@ -2313,7 +2329,7 @@ mod tests {
         );
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
         assert!(g.frame().singular.is_empty());
         assert!(
             g.frame()
@@ -2350,7 +2366,7 @@ mod tests {
         let mut g = layer(&sp);
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
         let f = g.frame();
         assert!(
             f.num_flat_regions >= 2,
@@ -2392,7 +2408,7 @@ mod tests {
         let mut g = layer(&sp);
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
         let f = g.frame();
         assert!(f.num_curved_regions >= 1);
         let big = f
@@ -2550,7 +2566,7 @@ mod tests {
             for &v in held {
                 fixed[v] = true;
             }
-            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
+            g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
             sg.validate(&sp).unwrap();
             let mut count = [0usize; 5];
             for v in g.frame().sg_vertices(&sg, &sp) {
@@ -2652,7 +2668,7 @@ mod tests {
         let mut g = layer(&sp);
         let fixed = vec![false; sp.num_vertices()];
         let obstacles = Obstacles::new(&RoomConfig::default());
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true);
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
         let f = g.frame();
         let flats: Vec<u32> = f
             .regions
@@ -2699,9 +2715,21 @@ mod tests {
         /// Places the sheet squeezed by `squeeze` along x, runs one frame and returns whether
         /// the isometry step ran.
         fn runs(&mut self, squeeze: f64, driven: bool) -> bool {
+            self.place(squeeze, 0.0);
+            self.step(driven, &[]);
+            self.layer.frame().isometry.phase1_iters > 0
+        }
+
+        /// Places the sheet squeezed by `squeeze` along x and rippled by `ripple_m` in z.
+        fn place(&mut self, squeeze: f64, ripple_m: f64) {
             for (p, q) in self.sp.pos.iter_mut().zip(&self.flat) {
-                *p = V3::new(q.x * (1.0 - squeeze), q.y, q.z);
+                let z = ripple_m * (40.0 * q.x).sin() * (25.0 * q.y).cos();
+                *p = V3::new(q.x * (1.0 - squeeze), q.y, q.z + z);
             }
+        }
+
+        /// Runs one frame with `start_normals` as the frame's start.
+        fn step(&mut self, driven: bool, start_normals: &[V3]) {
             self.frame += 1;
             let fixed = vec![false; self.sp.num_vertices()];
             let obstacles = Obstacles::new(&RoomConfig::default());
@@ -2712,9 +2740,52 @@ mod tests {
                 &obstacles,
                 self.frame,
                 driven,
+                start_normals,
             );
-            self.layer.frame().isometry.phase1_iters > 0
         }
+
+        /// Unit normals of the triangles.
+        fn normals(&self) -> Vec<V3> {
+            self.sp
+                .triangles
+                .iter()
+                .map(|t| {
+                    let x = t.map(|i| self.sp.pos[i as usize]);
+                    (x[1] - x[0]).cross(&(x[2] - x[0])).normalize()
+                })
+                .collect()
+        }
+    }
+
+    /// The isometry step never turns a triangle over from the frame's start, even one the
+    /// physics left at 90° from it: here the start normal of the triangle the step turns most
+    /// is set perpendicular to its normal before the step, on the side the step turns away
+    /// from, and the step is reverted.
+    #[test]
+    fn isometry_never_turns_a_triangle_over_from_the_frame_start() {
+        let mut free = IsoRig::new();
+        free.place(0.02, 2e-3);
+        let before = free.normals();
+        free.step(true, &before);
+        assert!(!free.layer.frame().isometry_reverted);
+        let after = free.normals();
+        let (t, turn) = (0..before.len())
+            .map(|t| (t, 1.0 - before[t].dot(&after[t])))
+            .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        assert!(turn > 1e-9, "the step turns triangle {t} ({turn:e})");
+        let mut start = before.clone();
+        let away = after[t] - before[t] * after[t].dot(&before[t]);
+        start[t] = (-away.normalize() + before[t] * 1e-9).normalize();
+        let mut rig = IsoRig::new();
+        rig.place(0.02, 2e-3);
+        rig.step(true, &start);
+        assert!(rig.layer.frame().isometry_reverted);
+        let n = rig.normals();
+        assert!(n[t].dot(&start[t]) >= 0.0, "triangle {t} not turned over");
+        assert!(
+            (n[t] - before[t]).norm() < 1e-12,
+            "triangle {t} kept as before the step"
+        );
     }
 
     /// The isometry step's trigger (isometry.rs "When it runs"): on a still sheet (no

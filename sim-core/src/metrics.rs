@@ -69,6 +69,12 @@ pub struct MetricsTracker {
 }
 
 impl MetricsTracker {
+    /// Unit normals of the triangles at the end of the previous frame (the reference of the
+    /// flipped-triangle count).
+    pub fn previous_normals(&self) -> &[V3] {
+        &self.prev_normal
+    }
+
     /// Unit normal of triangle `t` at the end of the previous frame (the reference of the
     /// flipped-triangle count).
     pub fn previous_normal(&self, t: usize) -> V3 {

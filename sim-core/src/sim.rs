@@ -540,6 +540,7 @@ impl Sim {
             let (old, new) = (self.frame_start_pattern[v], sp.pattern[v]);
             if old != new
                 && let Some(x) = sp.surface_point_over(v as u32, old, new)
+                && x.iter().all(|c| c.is_finite())
             {
                 sp.pos[v] = x;
             }
@@ -680,6 +681,7 @@ impl Sim {
                 &self.obstacles,
                 self.frame,
                 driven,
+                self.metrics.previous_normals(),
             );
             self.sheet.sg.pull_positions(&self.sheet.sp);
         } else {
