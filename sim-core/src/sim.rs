@@ -969,13 +969,9 @@ mod tests {
         // Half an edge, as a placement does, at the first interior, free vertex that can move.
         let sp = &mut sim.sheet.sp;
         let edge_m = sp.edge_rest_len_m.iter().sum::<f64>() / sp.num_edges() as f64;
-        let moved = (0..sp.num_vertices()).find_map(|v| {
-            if sim.fixed[v] {
-                return None;
-            }
+        let moved = (0..sp.num_vertices()).find(|&v| {
             let target = sp.pattern[v] + V2::new(0.5 * edge_m, 0.0);
-            let d = sp.move_pattern_vertex(v as u32, target);
-            (d.norm() > 0.2 * edge_m).then_some(v)
+            !sim.fixed[v] && sp.move_pattern_vertex(v as u32, target).norm() > 0.2 * edge_m
         });
         let v = moved.expect("a vertex that can move in the pattern");
         sim.restore_frame_start();
