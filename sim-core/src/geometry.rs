@@ -97,9 +97,9 @@
 //!    ends are more than 1/ρ_bound apart, so S_G's rulings are those of its cones.
 //! 9. **Isometry** (§3.8, [`isometry`]): Phase I (edge directions, two Lagrange multipliers,
 //!    2×2 solves) and Phase II (positions, least squares, held vertices fixed), then no vertex
-//!    is let deeper into an obstacle than it was; a facet turned by more than 0.3 rad
-//!    discards the correction, and frames with a vertex faster than
-//!    `IsometryConfig::max_speed_m_s` skip it (measured: in hostile stress runs the
+//!    is let deeper into an obstacle than it was; a facet turned by more than 0.3 rad, or
+//!    turned over from its normal at the frame's start, discards the correction, and frames
+//!    with a vertex faster than `IsometryConfig::max_speed_m_s` skip it (measured: in hostile stress runs the
 //!    position-only correction during violent motion let later physics steps turn facets
 //!    over); a still sheet skips it unless an edge is compressed by more than 1 % (isometry.rs
 //!    "When it runs"). Targets are compression-only by default
