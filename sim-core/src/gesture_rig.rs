@@ -90,7 +90,8 @@
 //!
 //! **Obstacles.** Targets are moved out of the table, wall and floor (the whole held patch);
 //! a hand that holds paper inside an obstacle comes out at its travel speed, never by a jump,
-//! and a moving obstacle (a table being raised) carries the hands along at its own speed.
+//! and a moving obstacle (a table being raised) carries the hands along at its own speed —
+//! all of them together, by the push the deepest held patch needs, as they hold one sheet.
 //!
 //! **Rate limits.** Gesture values are followed through slew-rate limits derived from the
 //! travel clamp (a value jump becomes a continuous sweep, so e.g. a twist jump rotates the
@@ -556,8 +557,8 @@ impl GestureRig {
             }
             let target = self.pushed_out(k, self.target_pose(k), obstacles);
             moved |= self.state.hands[k].advance(&target, dt_s, clamp_m, max_angle);
-            moved |= self.carried_by_obstacles(k, obstacles, dt_s);
         }
+        moved |= self.carried_by_obstacles(obstacles, dt_s);
         moved
     }
 
@@ -750,36 +751,51 @@ impl GestureRig {
         Pose::new(p, r)
     }
 
-    /// Recomputes which hand holds which vertex. A neighbour vertex that changes hands (its
-    /// previous holder let go, or a new hand took it) is taken where it is now: its offset in
-    /// the new holder is refitted to its current position, so it never jumps to a stale offset.
-    /// A plane moving into a held patch (a table being raised) pushes the hand along its
-    /// normal, by at most the plane's own motion this frame. Returns true if it did.
-    fn carried_by_obstacles(&mut self, k: usize, obstacles: &Obstacles, dt_s: f64) -> bool {
+    /// A plane moving into a held patch (a table being raised) carries the hands along its
+    /// normal, by at most the plane's own motion this frame. It carries **every** active hand
+    /// by the largest push any of them needs: the hands hold one sheet and yield to the table
+    /// together. Carrying only the hands it touches (before) pinned their vertices to the rising
+    /// table top while the layers of a held crumpled ball above them were pushed up by the
+    /// table through the layers below: the sheet between was pulled apart (long stress runs,
+    /// seeds 17 and 24: strain above 1, a degenerate or flipped triangle) and held vertices
+    /// slipped into the table. Returns true if it moved any hand.
+    fn carried_by_obstacles(&mut self, obstacles: &Obstacles, dt_s: f64) -> bool {
         let mut moved = false;
         for pl in obstacles.planes.iter() {
             if !pl.active || pl.speed_m_s <= 0.0 {
                 continue;
             }
-            let h = &self.state.hands[k];
-            let r = h.pose.rotation();
-            let p = h.pose.pos();
             let mut pen: f64 = 0.0;
-            for j in 0..self.info[k].def.num_vertices as usize {
-                if h.holds(j) {
-                    pen = pen.max(-pl.distance(&(p + r * V3::from(h.offsets_m[j]))));
+            for k in 0..NUM_HANDS {
+                let h = &self.state.hands[k];
+                if !h.active || self.suppressed[k] {
+                    continue;
+                }
+                let r = h.pose.rotation();
+                let p = h.pose.pos();
+                for j in 0..self.info[k].def.num_vertices as usize {
+                    if h.holds(j) {
+                        pen = pen.max(-pl.distance(&(p + r * V3::from(h.offsets_m[j]))));
+                    }
                 }
             }
             let push = pen.min(pl.speed_m_s * dt_s);
             if push > 0.0 {
-                let h = &mut self.state.hands[k];
-                h.pose = Pose::new(p + pl.normal * push, r);
+                for k in 0..NUM_HANDS {
+                    let h = &mut self.state.hands[k];
+                    if h.active && !self.suppressed[k] {
+                        h.pose = Pose::new(h.pose.pos() + pl.normal * push, h.pose.rotation());
+                    }
+                }
                 moved = true;
             }
         }
         moved
     }
 
+    /// Recomputes which hand holds which vertex. A neighbour vertex that changes hands (its
+    /// previous holder let go, or a new hand took it) is taken where it is now: its offset in
+    /// the new holder is refitted to its current position, so it never jumps to a stale offset.
     fn recompute_ownership(&mut self, pos: &[V3]) {
         self.ownership.clear();
         self.prev_claim.copy_from_slice(&self.claim);
