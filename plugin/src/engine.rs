@@ -407,7 +407,8 @@ impl Engine {
     }
 
     /// Renders one block into `left` and `right` (same length, any length). Allocation-free in
-    /// threaded mode; in lockstep mode only a sheet rebuild (reset, size change, restore) or the
+    /// threaded mode; in lockstep mode only a sheet rebuild (reset, size change, restore), a
+    /// step that inserts a vertex for a singular point (`Sim::refinement_pending`) or the
     /// periodic publish for the saved project allocates, and those are permitted explicitly.
     pub fn render(&mut self, left: &mut [f32], right: &mut [f32]) {
         let n = left.len().min(right.len());
@@ -440,7 +441,15 @@ impl Engine {
                                 }
                             }
                         }
-                        worker::step_frame(&mut l.sim, &mut l.out, &self.meters);
+                        if l.sim.refinement_pending() {
+                            // This step inserts an S_P vertex for a singular point (a new
+                            // mesh): announced by the sim, permitted like a reset.
+                            nice_plug::util::permit_alloc(|| {
+                                worker::step_frame(&mut l.sim, &mut l.out, &self.meters)
+                            });
+                        } else {
+                            worker::step_frame(&mut l.sim, &mut l.out, &self.meters);
+                        }
                         Self::deliver(&mut self.renderer, &l.out.sound, &self.meters);
                         if let Some(rec) = &mut self.recorded {
                             nice_plug::util::permit_alloc(|| rec.push(l.out.sound));

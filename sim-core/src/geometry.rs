@@ -111,29 +111,39 @@
 //!
 //! ## Simplifications against the seeds (said plainly)
 //!
-//! - **S_P keeps its connectivity.** The seeds regenerate S_P from S_G every frame (coarse
-//!   flat triangles + Delaunay enrichment, quads with barycentre vertices along rulings, §2.2).
-//!   Here S_G's regions, rulings and cones are computed *on* the fixed S_P lattice (a region is
-//!   a set of S_P triangles; a ruling is a traced pattern line), and S_P is not re-meshed:
-//!   strip cutting marks the strip's triangles curved instead of inserting rulings; cone
+//! - **S_P keeps its connectivity, except at singular points.** The seeds regenerate S_P from
+//!   S_G every frame (coarse flat triangles + Delaunay enrichment, quads with barycentre
+//!   vertices along rulings, §2.2). Here S_G's regions, rulings and cones are computed *on*
+//!   S_P (a region is a set of S_P triangles; a ruling is a traced pattern line), and S_P
+//!   changes only where S_G gains a vertex: a singular point gets an S_P vertex at its drawn
+//!   position (next bullet), inserted with state transfer ([`crate::sheet::refine`]). Strip
+//!   cutting marks the strip's triangles curved instead of inserting rulings; cone
 //!   **realignment and boundary resampling** (§3.7 steps 1–7) act on S_G's published rulings
-//!   only ([`realign`]: the physics does not see them); the state transfer to a new S_P
-//!   (§2.2.5) has nothing to act on and is not done. Reasons: the physics
-//!   solver's sparse factorization, the allocation-free step, the plugin's preallocated mesh
-//!   and per-vertex contacts all stay valid; and our physics on the fixed lattice already
-//!   measures c_mean ≈ 0.03 %, well inside the seeds' post-remeshing figures.
-//! - **A singular point lives on an S_P vertex, moved to s̄.** s̄ is sampled with the seeds'
-//!   law and σ ([`SingularPoint::sampled2`]); the d-cone apex is the eligible S_P vertex
-//!   nearest to it among the two faces of ē_sing (interior, not held, not yet singular), and
-//!   that vertex's *pattern* position moves to s̄
+//!   only ([`realign`]: the physics does not see them). Reasons: the physics solver's sparse
+//!   factorization, the allocation-free step, the plugin's preallocated mesh and per-vertex
+//!   contacts all stay valid between singular points (an insertion rebuilds them, an event
+//!   like a reset); and our physics on the lattice already measures c_mean ≈ 0.01–0.03 %,
+//!   well inside the seeds' post-remeshing figures.
+//! - **A singular point gets an S_P vertex at s̄.** s̄ is sampled with the seeds' law and σ
+//!   ([`SingularPoint::sampled2`]) about ē_sing. The eligible S_P vertex nearest to it among
+//!   the two faces of ē_sing (interior, not held, not yet singular) moves there in the
+//!   pattern if the triangles around it stay well shaped
 //!   ([`crate::sheet::physical::PhysMesh::move_pattern_vertex`]: rest data and masses follow,
-//!   the 3D point is lifted onto the current surface) — in full when the triangles around it
-//!   stay well shaped and unstrained, else half or a quarter of the way, else not at all (a
-//!   tightly folded star). Measured: the first singular point of C1 sits exactly at s̄ in 28
-//!   of 40 seeded runs; in the full crumple, whose stars are already folded when the points
-//!   appear, 1 of 19 does, the others stay within one S_P edge (≈ 1.1 cm on the 10 cm sheet,
-//!   3.3 cm on A4). When no vertex is eligible nothing is created (the seeds' rare failure,
-//!   P 1631).
+//!   the 3D point is lifted onto the current surface); otherwise the point waits
+//!   ([`PendingSingular`]) and after the frame the sim inserts a new S_P vertex at s̄
+//!   ([`crate::sheet::refine`], `sim/remesh.rs`): edge or triangle split, Delaunay flips of
+//!   unbent, undamaged edges, the new vertex placed on the surface where its edges have their
+//!   pattern lengths, state carried over), which then becomes the singular vertex. Where s̄
+//!   falls next to an existing vertex or the split would make thin triangles, the vertex goes
+//!   to the nearest accepted point (≤ half-way to its triangle's centre); where even that is
+//!   refused, the nearest vertex moves part of the way as before
+//!   **Opt-in for now** ([`GeometryConfig::insert_singular_vertices`], off by default: with it
+//!   off the nearest vertex moves part of the way everywhere, as before; the measurements
+//!   below were made with it on, and the full test suite has not yet been run with it on).
+//!   Measured (`sim-core/examples/insert_probe.rs`, seed scenes): the full crumple C5 places
+//!   10 of its 20 singular points exactly at s̄ and the others within 1.9 cm (before: 1 of
+//!   20, up to 3.1 cm, a whole A4 edge); S4 17 of 35 (before 1 of 23).
+//!   When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
 //! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
 //!   triangulation of a flat region show a fold across its other diagonal; here flat regions
 //!   are unions of S_P triangles whose own edges carry every fold, so there is no coarse
@@ -165,7 +175,8 @@
 //!
 //! ## Allocation and determinism
 //!
-//! Every buffer is sized in [`GeometryLayer::new`] from S_P (whose connectivity never changes);
+//! Every buffer is sized in [`GeometryLayer::new`] from S_P (whose connectivity changes only
+//! when a vertex is inserted, and then [`GeometryLayer::remeshed`] builds a new layer);
 //! `update` only writes into them (sorts are in-place `sort_unstable_by` with index
 //! tie-breaks). The only randomness is the layer's own `Pcg32`, seeded from the sheet's seed
 //! and saved with the sheet.
@@ -254,6 +265,12 @@ pub struct GeometryConfig {
     pub gauss_min_spacing_m: f64,
     /// The isometry optimizer.
     pub isometry: IsometryConfig,
+    /// Place a singular vertex exactly at its drawn position s̄: when the nearest S_P vertex
+    /// cannot move there in full, a new S_P vertex is inserted at s̄ after the frame
+    /// ([`crate::sheet::refine`]; off = the nearest vertex moves part of the way, or not at all).
+    /// Off by default until the seed scenes and the plugin's tests have been run with it on
+    /// (see the module doc, "A singular point gets an S_P vertex at s̄").
+    pub insert_singular_vertices: bool,
 }
 
 impl Default for GeometryConfig {
@@ -268,6 +285,7 @@ impl Default for GeometryConfig {
             gauss_eps_factor: 15.0,
             gauss_min_spacing_m: 0.02,
             isometry: IsometryConfig::default(),
+            insert_singular_vertices: false,
         }
     }
 }
@@ -433,6 +451,47 @@ pub enum SingularCase {
     /// A vertex whose 1-ring is bent in two directions (ruling families meeting at an
     /// angle, P 685–704); impl. choice, see the module doc.
     NonDevelopable,
+}
+
+impl SingularCase {
+    /// The case's number in a saved sheet.
+    fn code(self) -> u8 {
+        match self {
+            SingularCase::Crease => 0,
+            SingularCase::CurvedRegion => 1,
+            SingularCase::Restored => 2,
+            SingularCase::NonDevelopable => 3,
+        }
+    }
+
+    /// The case of a saved number (unknown numbers: restored).
+    fn of_code(c: u8) -> Self {
+        match c {
+            0 => SingularCase::Crease,
+            1 => SingularCase::CurvedRegion,
+            3 => SingularCase::NonDevelopable,
+            _ => SingularCase::Restored,
+        }
+    }
+}
+
+/// A singular vertex drawn in a frame whose nearest S_P vertex could not move to s̄ in full:
+/// the sim inserts a vertex at s̄ after the frame and makes it singular
+/// ([`GeometryLayer::take_pending_singular`], [`crate::sheet::refine`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PendingSingular {
+    /// The drawn pattern position s̄, metres.
+    pub sampled2: V2,
+    /// The nearest eligible S_P vertex: moved towards s̄ instead if the insertion is refused.
+    pub fallback_vertex: u32,
+    /// How it was born.
+    pub case: SingularCase,
+    /// Compression that started the pass (for the event).
+    pub compression: f64,
+    /// |θ| of the edge the point was drawn about, radians (for the event).
+    pub dihedral_rad: f64,
+    /// Frame in which it was drawn.
+    pub frame: u64,
 }
 
 /// A persistent interior singular vertex (d-cone apex).
@@ -658,6 +717,10 @@ pub struct SavedGeometry {
     /// before this field load as 0.
     #[serde(default)]
     pub iso_undriven_compression: f64,
+    /// A singular vertex waiting for its inserted S_P vertex: (s̄, fallback vertex, case,
+    /// compression, dihedral, frame drawn). Absent when none (and in saves from before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pending_singular: Option<([f64; 2], u32, u8, f64, f64, u64)>,
 }
 
 /// Where a propagation direction ended.
@@ -722,6 +785,10 @@ pub struct GeometryLayer {
     rng: rand_pcg::Pcg32,
     iso_undriven_compression: f64,
     frames_processed: u64,
+    /// A singular vertex waiting for its inserted S_P vertex (at most one per frame).
+    pending: Option<PendingSingular>,
+    /// This frame's event list was started before the layer ran ([`Self::start_events_early`]).
+    keep_events: bool,
 }
 
 fn find(uf: &mut [u32], mut x: u32) -> u32 {
@@ -824,6 +891,8 @@ impl GeometryLayer {
             rng: rand_pcg::Pcg32::seed_from_u64(layer_seed(seed)),
             iso_undriven_compression: 0.0,
             frames_processed: 0,
+            pending: None,
+            keep_events: false,
         };
         let mut count = vec![0u32; nv + 1];
         for tri in &sp.triangles {
@@ -897,8 +966,10 @@ impl GeometryLayer {
     /// Clears the per-frame event list (a frame in which the layer did not run).
     pub fn idle_frame(&mut self, frame: u64) {
         self.out.frame = frame;
-        self.out.events.clear();
-        self.out.events_dropped = 0;
+        if !std::mem::take(&mut self.keep_events) {
+            self.out.events.clear();
+            self.out.events_dropped = 0;
+        }
         self.out.max_vertex_jump_m = 0.0;
         self.out.junction_moves = 0;
     }
@@ -921,22 +992,26 @@ impl GeometryLayer {
                 .singular
                 .iter()
                 .map(|s| {
-                    let case = match s.case {
-                        SingularCase::Crease => 0,
-                        SingularCase::CurvedRegion => 1,
-                        SingularCase::Restored => 2,
-                        SingularCase::NonDevelopable => 3,
-                    };
                     (
                         s.sp_vertex,
                         [s.sampled2.x, s.sampled2.y],
                         s.created_frame,
-                        case,
+                        s.case.code(),
                     )
                 })
                 .collect(),
             rng: self.rng.clone(),
             iso_undriven_compression: self.iso_undriven_compression,
+            pending_singular: self.pending.map(|p| {
+                (
+                    [p.sampled2.x, p.sampled2.y],
+                    p.fallback_vertex,
+                    p.case.code(),
+                    p.compression,
+                    p.dihedral_rad,
+                    p.frame,
+                )
+            }),
         }
     }
 
@@ -976,17 +1051,32 @@ impl GeometryLayer {
                     if v as usize >= nv || !(s2[0].is_finite() && s2[1].is_finite()) || c > 3 {
                         return Err("bad geometry singular entry".into());
                     }
-                    let case = match c {
-                        0 => SingularCase::Crease,
-                        1 => SingularCase::CurvedRegion,
-                        3 => SingularCase::NonDevelopable,
-                        _ => SingularCase::Restored,
-                    };
-                    self.push_singular(sp, v, V2::new(s2[0], s2[1]), f, case);
+                    self.push_singular(sp, v, V2::new(s2[0], s2[1]), f, SingularCase::of_code(c));
                 }
+                self.pending = match g.pending_singular {
+                    None => None,
+                    Some((s2, v, c, comp, dih, f)) => {
+                        if v as usize >= nv
+                            || !(s2[0].is_finite() && s2[1].is_finite())
+                            || c > 3
+                            || !(comp.is_finite() && dih.is_finite())
+                        {
+                            return Err("bad pending singular entry".into());
+                        }
+                        Some(PendingSingular {
+                            sampled2: V2::new(s2[0], s2[1]),
+                            fallback_vertex: v,
+                            case: SingularCase::of_code(c),
+                            compression: comp,
+                            dihedral_rad: dih,
+                            frame: f,
+                        })
+                    }
+                };
             }
             None => {
                 self.iso_undriven_compression = 0.0;
+                self.pending = None;
                 for &v in &sp.singular {
                     self.push_singular(sp, v, sp.pattern[v as usize], 0, SingularCase::Restored);
                 }
@@ -1035,8 +1125,10 @@ impl GeometryLayer {
     ) {
         self.frames_processed += 1;
         self.out.frame = frame;
-        self.out.events.clear();
-        self.out.events_dropped = 0;
+        if !std::mem::take(&mut self.keep_events) {
+            self.out.events.clear();
+            self.out.events_dropped = 0;
+        }
         self.out.held.clear();
         self.out
             .held
@@ -1546,25 +1638,62 @@ impl GeometryLayer {
         let Some((_, v)) = best else {
             return false;
         };
-        // The d-cone apex goes to the drawn position (as far as the triangles around the
-        // vertex stay well shaped): placement resolution σ, not the S_P edge.
-        if sp.move_pattern_vertex(v, pl.pos) != V2::zeros() {
-            let (a, b) = (
-                self.vert_tris_start[v as usize] as usize,
-                self.vert_tris_start[v as usize + 1] as usize,
-            );
-            for k in a..b {
-                let t = self.vert_tris[k] as usize;
-                self.tri_h[t] = (4.0 * sp.tri_rest[t].area_m2 / 3f64.sqrt()).sqrt();
-            }
-            self.iso.refresh_rest(sp);
-            // As `new` reads them, so a sheet restored from the moved pattern matches.
-            self.spacing_m = sp.edge_rest_len_m.iter().sum::<f64>() / sp.num_edges().max(1) as f64;
-            self.theta_sing = THETA0_RAD * (self.spacing_m * RHO_BOUND_PER_M).max(1.0);
-        }
-        let topo = &sp.topo;
         let dihedral_rad = self.out.edge_dihedral_rad[edge as usize].abs();
-        // Fibre damage (P eq. 1, T eq. 2.1–2.2) on the edges around v.
+        // The d-cone apex goes to the drawn position: the nearest vertex moves there if the
+        // triangles around it stay well shaped, else (with insertion on) a new vertex is
+        // inserted there after the frame; with insertion off the vertex moves part of the
+        // way. Placement resolution σ, not the S_P edge.
+        let exact = self.cfg.insert_singular_vertices && self.pending.is_none();
+        let fractions: &[f64] = if exact { &[1.0] } else { &[1.0, 0.5, 0.25] };
+        if sp.move_pattern_vertex_by(v, pl.pos, fractions) != V2::zeros() {
+            self.after_pattern_move(sp, v);
+        } else if exact && sp.pattern[v as usize] != pl.pos {
+            self.pending = Some(PendingSingular {
+                sampled2: pl.pos,
+                fallback_vertex: v,
+                case,
+                compression,
+                dihedral_rad,
+                frame,
+            });
+            return true;
+        }
+        self.make_singular(sp, sg, v, pl.pos, case, compression, dihedral_rad, frame);
+        true
+    }
+
+    /// Refreshes what the layer caches of S_P's rest shape around `v` after its pattern
+    /// position moved.
+    fn after_pattern_move(&mut self, sp: &PhysMesh, v: u32) {
+        let (a, b) = (
+            self.vert_tris_start[v as usize] as usize,
+            self.vert_tris_start[v as usize + 1] as usize,
+        );
+        for k in a..b {
+            let t = self.vert_tris[k] as usize;
+            self.tri_h[t] = (4.0 * sp.tri_rest[t].area_m2 / 3f64.sqrt()).sqrt();
+        }
+        self.iso.refresh_rest(sp);
+        // As `new` reads them, so a sheet restored from the moved pattern matches.
+        self.spacing_m = sp.edge_rest_len_m.iter().sum::<f64>() / sp.num_edges().max(1) as f64;
+        self.theta_sing = THETA0_RAD * (self.spacing_m * RHO_BOUND_PER_M).max(1.0);
+    }
+
+    /// Step 6: vertex `v` becomes singular, with fibre damage (P eq. 1, T eq. 2.1–2.2) on the
+    /// edges around it, signed by their fold in this frame's analysis.
+    #[allow(clippy::too_many_arguments)] // the singular point's record, passed explicitly
+    fn make_singular(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        v: u32,
+        sampled2: V2,
+        case: SingularCase,
+        compression: f64,
+        dihedral_rad: f64,
+        frame: u64,
+    ) {
+        let topo = &sp.topo;
         let nbrs = topo.neighbours(v);
         let n = nbrs.len().max(1) as f64;
         let (dtheta, dd) = (THETA_REST_RAD / n, DAMAGE_D / n);
@@ -1581,7 +1710,7 @@ impl GeometryLayer {
             }
         }
         sp.singular.push(v);
-        self.push_singular(sp, v, pl.pos, frame, case);
+        self.push_singular(sp, v, sampled2, frame, case);
         sg.vertices.push(GVertex {
             p2: sp.pattern[v as usize],
             p3: sp.pos[v as usize],
@@ -1597,7 +1726,124 @@ impl GeometryLayer {
             compression,
             dihedral_rad,
         });
+    }
+
+    /// The singular vertex drawn this frame that waits for an inserted S_P vertex, if any
+    /// (taken: the sim either inserts it, [`Self::singular_at_inserted`], or falls back,
+    /// [`Self::singular_by_move`]; a frame that is undone just drops it).
+    pub fn take_pending_singular(&mut self) -> Option<PendingSingular> {
+        self.pending.take()
+    }
+
+    /// The singular vertex waiting for an inserted S_P vertex, if any.
+    pub fn pending_singular(&self) -> Option<&PendingSingular> {
+        self.pending.as_ref()
+    }
+
+    /// Starts this frame's event list before the layer runs (the sim places a pending singular
+    /// vertex at the start of its step): the list is cleared now and kept when the layer runs.
+    pub fn start_events_early(&mut self) {
+        self.out.events.clear();
+        self.out.events_dropped = 0;
+        self.keep_events = true;
+    }
+
+    /// Makes the vertex inserted at `p.sampled2` singular (`self` is the layer
+    /// [`Self::remeshed`] built for the refined S_P, whose analysis is current).
+    pub fn singular_at_inserted(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        v: u32,
+        p: &PendingSingular,
+    ) {
+        self.make_singular(
+            sp,
+            sg,
+            v,
+            p.sampled2,
+            p.case,
+            p.compression,
+            p.dihedral_rad,
+            p.frame,
+        );
+    }
+
+    /// The fallback when no vertex can be inserted at s̄: the nearest vertex moves towards it
+    /// as far as its triangles allow (the behaviour with insertion off), if it is still
+    /// eligible. Returns whether a singular vertex was made.
+    pub fn singular_by_move(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        fixed: &[bool],
+        p: &PendingSingular,
+    ) -> bool {
+        let v = p.fallback_vertex;
+        let vi = v as usize;
+        if vi >= sp.num_vertices()
+            || self.is_singular[vi]
+            || self.out.singular.len() >= self.out.singular.capacity()
+            || fixed.get(vi).copied().unwrap_or(true)
+            || sp.topo.neighbours(v).iter().any(|&j| fixed[j as usize])
+        {
+            return false;
+        }
+        if sp.move_pattern_vertex(v, p.sampled2) != V2::zeros() {
+            self.after_pattern_move(sp, v);
+        }
+        self.make_singular(
+            sp,
+            sg,
+            v,
+            p.sampled2,
+            p.case,
+            p.compression,
+            p.dihedral_rad,
+            p.frame,
+        );
         true
+    }
+
+    /// This layer carried over to `sp`, S_P refined by [`crate::sheet::refine`] (old vertices
+    /// keep their index; `tri_parent` names each new triangle's old triangle): the persistent
+    /// state goes through [`Self::save`] / [`Self::restore`] as for a saved sheet, with the
+    /// per-triangle state (curved flags, refractory frames) taken from the parent triangle;
+    /// this frame's events and counters are kept. Allocates (a connectivity change).
+    pub fn remeshed(
+        &self,
+        sp: &PhysMesh,
+        sg: &mut GeomStructure,
+        tri_parent: &[u32],
+        mat: &PaperMaterial,
+        seed: u64,
+    ) -> Result<Self, String> {
+        let mut saved = self.save();
+        saved.curved = tri_parent
+            .iter()
+            .map(|&t| self.curved[t as usize])
+            .collect();
+        saved.refractory_until = tri_parent
+            .iter()
+            .map(|&t| self.refractory_until[t as usize])
+            .collect();
+        let mut g = Self::new(sp, self.cfg, mat, seed);
+        g.eps_c = self.eps_c;
+        g.sigma_m = self.sigma_m;
+        g.restore(sp, sg, Some(&saved))?;
+        for (t, &p) in tri_parent.iter().enumerate() {
+            g.prev_curved[t] = self.prev_curved[p as usize];
+        }
+        let nv = self.junction_prev.len().min(g.junction_prev.len());
+        g.junction_prev[..nv].copy_from_slice(&self.junction_prev[..nv]);
+        g.out.frame = self.out.frame;
+        g.out.events.clone_from(&self.out.events);
+        g.out.events_dropped = self.out.events_dropped;
+        g.out.max_vertex_jump_m = self.out.max_vertex_jump_m;
+        g.out.junction_moves = self.out.junction_moves;
+        g.frames_processed = self.frames_processed;
+        g.keep_events = self.keep_events;
+        Ok(g)
     }
 
     /// Step 7a: regions, creases, kinds, free borders, junctions.
@@ -2265,12 +2511,15 @@ mod tests {
         (sp, sg)
     }
 
+    /// A layer on its own (no sim): a singular point goes to the nearest vertex, moved towards
+    /// s̄ (inserting a vertex at s̄ is the sim's part, tested in `sim/remesh.rs`).
     fn layer(sp: &PhysMesh) -> GeometryLayer {
         let cfg = GeometryConfig {
             isometry: IsometryConfig {
                 enabled: false,
                 ..IsometryConfig::default()
             },
+            insert_singular_vertices: false,
             ..GeometryConfig::default()
         };
         GeometryLayer::new(

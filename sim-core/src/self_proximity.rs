@@ -13,6 +13,15 @@
 //! towards 0 before any pass-through — provided it is sampled faster than layers approach
 //! (the rig stops at several millimetres, far more than a frame's travel of a fold).
 //!
+//! **Refined meshes.** On the lattice S_P starts as, two triangles that share no vertex lie
+//! at least ≈ 0.87 of the lattice spacing apart in the pattern (a triangle's height). A vertex
+//! inserted at a singular point's drawn position ([`crate::sheet::refine`]) makes triangles
+//! around it that share no vertex with triangles a fraction of an edge away — one patch of the
+//! paper, which would read as two layers already touching and stop the squeeze at once. So
+//! pairs closer than 3/4 of the lattice spacing in the pattern are not measured
+//! ([`SelfProximity::set_min_pattern_gap_m`]); on the lattice itself no pair is that close
+//! (tested), so nothing changes there.
+//!
 //! **Algorithm.** Broad phase: sort and sweep of the triangles' axis-aligned boxes along x;
 //! pairs whose boxes are farther apart than the query reach are not measured, nor are pairs
 //! whose box gap (a lower bound of their distance) is no smaller than the closest distance
@@ -25,7 +34,7 @@ use parry3d::math::{Pose, Vector};
 use parry3d::query::{distance, intersection_test};
 use parry3d::shape::Triangle;
 
-use crate::math::V3;
+use crate::math::{V2, V3};
 use crate::sheet::physical::PhysMesh;
 
 /// Reusable buffers of the closest-approach query.
@@ -35,6 +44,8 @@ pub struct SelfProximity {
     boxes: Vec<(V3, V3)>,
     /// Triangle indices sorted by their box's lower x.
     order: Vec<u32>,
+    /// Pairs closer than this in the pattern are one patch, not two layers (0 = none).
+    min_pattern_gap_m: f64,
 }
 
 impl SelfProximity {
@@ -48,7 +59,18 @@ impl SelfProximity {
         Self {
             boxes: Vec::with_capacity(triangles),
             order: Vec::with_capacity(triangles),
+            min_pattern_gap_m: 0.0,
         }
+    }
+
+    /// Pairs of triangles less than `gap_m` apart in the pattern are not measured (see the
+    /// module doc, "Refined meshes").
+    pub fn set_min_pattern_gap_m(&mut self, gap_m: f64) {
+        self.min_pattern_gap_m = if gap_m.is_finite() {
+            gap_m.max(0.0)
+        } else {
+            0.0
+        };
     }
 
     /// Smallest distance between two vertex-disjoint triangles of `sp`, metres; `f64::INFINITY`
@@ -120,6 +142,11 @@ impl SelfProximity {
                 if ta.iter().any(|v| tb.contains(v)) {
                     continue;
                 }
+                if self.min_pattern_gap_m > 0.0
+                    && pattern_gap_m(sp, ta, tb) < self.min_pattern_gap_m
+                {
+                    continue;
+                }
                 if visit(gap_m, &tri(a), &tri(b)) {
                     return true;
                 }
@@ -127,6 +154,29 @@ impl SelfProximity {
         }
         false
     }
+}
+
+/// Distance between two vertex-disjoint pattern triangles, metres (they do not overlap in a
+/// valid pattern, so it is the smallest vertex-to-edge distance).
+fn pattern_gap_m(sp: &PhysMesh, ta: [u32; 3], tb: [u32; 3]) -> f64 {
+    let (pa, pb) = (
+        ta.map(|v| sp.pattern[v as usize]),
+        tb.map(|v| sp.pattern[v as usize]),
+    );
+    let seg = |p: V2, a: V2, b: V2| {
+        let ab = b - a;
+        let t = ((p - a).dot(&ab) / ab.norm_squared().max(1e-300)).clamp(0.0, 1.0);
+        (a + ab * t - p).norm()
+    };
+    let mut best = f64::INFINITY;
+    for (from, to) in [(&pa, &pb), (&pb, &pa)] {
+        for &p in from {
+            for k in 0..3 {
+                best = best.min(seg(p, to[k], to[(k + 1) % 3]));
+            }
+        }
+    }
+    best
 }
 
 /// Triangle `t` of S_P in f32 coordinates relative to `centre` (parry3d's precision).
@@ -146,6 +196,26 @@ mod tests {
 
     fn flat() -> PhysMesh {
         Sheet::new_flat(SheetSize::Sq10, MeshConfig::default(), 0.0, 0.1).sp
+    }
+
+    /// No two vertex-disjoint triangles of any sheet size's lattice are closer in the pattern
+    /// than 3/4 of its spacing: the refined-mesh exclusion leaves lattice sheets unchanged.
+    #[test]
+    fn lattice_triangles_sharing_no_vertex_are_at_least_three_quarters_of_a_spacing_apart() {
+        for size in SheetSize::ALL {
+            let mesh = MeshConfig::default();
+            let sp = Sheet::new_flat(size, mesh, 0.0, 0.1).sp;
+            let limit = 0.75 * mesh.spacing_m(size);
+            let mut closest = f64::INFINITY;
+            for (a, ta) in sp.triangles.iter().enumerate() {
+                for tb in &sp.triangles[a + 1..] {
+                    if !ta.iter().any(|v| tb.contains(v)) {
+                        closest = closest.min(pattern_gap_m(&sp, *ta, *tb));
+                    }
+                }
+            }
+            assert!(closest >= limit, "{size:?}: {closest} < {limit}");
+        }
     }
 
     /// A flat sheet is nowhere close to itself within less than a mesh spacing; the closest

@@ -13,11 +13,14 @@
 //! - [`pattern`]: the initial lattice triangulation of the flat sheet;
 //! - [`topology`]: half-edge topology as plain `u32` index data;
 //! - [`physical`]: S_P (positions, velocities, masses, rest data, rest angles, damage);
-//! - [`geometric`]: S_G (the data model; its operations are [`crate::geometry`]).
+//! - [`geometric`]: S_G (the data model; its operations are [`crate::geometry`]);
+//! - [`refine`]: vertex insertion into S_P with state transfer (a singular vertex at its exact
+//!   drawn position).
 
 pub mod geometric;
 pub mod pattern;
 pub mod physical;
+pub mod refine;
 pub mod topology;
 
 use crate::control::SheetSize;

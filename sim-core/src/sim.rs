@@ -47,6 +47,7 @@
 //! capacity ([`Sim::mesh_capacity`]) do not allocate (tested with a counting allocator).
 
 mod phase_times;
+mod remesh;
 mod saved;
 
 pub use phase_times::PhaseTimes;
@@ -211,6 +212,8 @@ pub struct Sim {
     quiet_frames: u32,
     mesh_capacity: (usize, usize),
     frames_simulated: u64,
+    /// S_P vertices inserted for singular vertices since the sheet was made (sim/remesh.rs).
+    inserted_vertices: u64,
     analysis: SoundAnalysis,
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
@@ -284,8 +287,15 @@ impl Sim {
             quiet_frames: 0,
             mesh_capacity,
             frames_simulated: 0,
+            inserted_vertices: 0,
             analysis,
-            proximity: SelfProximity::with_capacity(mesh_capacity.1),
+            proximity: {
+                // Vertices inserted at singular points make pairs of triangles a fraction of an
+                // edge apart in the pattern: one patch, not two layers (self_proximity.rs).
+                let mut q = SelfProximity::with_capacity(mesh_capacity.1);
+                q.set_min_pattern_gap_m(0.75 * cfg.mesh.spacing_m(sheet.size));
+                q
+            },
             frame_start_pos: Vec::with_capacity(mesh_capacity.0),
             frame_start_pattern: Vec::with_capacity(mesh_capacity.0),
             pre_limit_pos: Vec::with_capacity(mesh_capacity.0),
@@ -401,6 +411,19 @@ impl Sim {
     /// Sparse factorizations done by the Newton solver since the last rebuild.
     pub fn factorizations(&self) -> u64 {
         self.physics.factorizations()
+    }
+
+    /// True if the next [`Self::step`] starts by inserting an S_P vertex for a singular point
+    /// drawn in the last frame (sim/remesh.rs): that step allocates (a new mesh), every other
+    /// step does not. A host that steps the sheet on its audio thread permits it there.
+    pub fn refinement_pending(&self) -> bool {
+        self.geometry.pending_singular().is_some()
+    }
+
+    /// S_P vertices inserted at singular points' drawn positions since this sim was made
+    /// (sim/remesh.rs; not saved with the sheet).
+    pub fn inserted_vertices(&self) -> u64 {
+        self.inserted_vertices
     }
 
     /// Frames that ran the physics (not asleep) since creation.
@@ -599,6 +622,11 @@ impl Sim {
         self.frame = self.frame.saturating_add(1);
         out.sound.frame = self.frame;
         out.sound.time_s = self.time_s();
+        // The only step that allocates: a singular vertex drawn last frame gets its own S_P
+        // vertex ([`Self::refinement_pending`], sim/remesh.rs).
+        if let Some(p) = self.geometry.take_pending_singular() {
+            self.place_pending_singular(&p);
+        }
         if self.asleep {
             self.geometry.idle_frame(self.frame);
             out.stats = self.stats(true, 0, 0, 0);
@@ -688,14 +716,22 @@ impl Sim {
             self.geometry.idle_frame(self.frame);
         }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
+        let mut undone = false;
         if guard {
             if self.undo_pass_through(frame_scale) {
                 self.sheet.sg.pull_positions(&self.sheet.sp);
                 self.geometry.sync_positions(&self.sheet.sp);
                 self.rig.state.undo_streak += 1;
+                undone = true;
             } else {
                 self.rig.state.undo_streak = 0;
             }
+        }
+        // A singular vertex drawn where no S_P vertex could move waits for a vertex inserted
+        // at the start of the next step (sim/remesh.rs), unless the frame was undone (the
+        // point is dropped with the frame).
+        if undone {
+            self.geometry.take_pending_singular();
         }
         self.phase_ns.self_contact_ns += self.stopwatch.lap_ns();
         self.update_contacts();

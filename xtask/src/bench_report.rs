@@ -274,6 +274,17 @@ fn variants(quick: bool) -> Vec<Variant> {
         )
     };
     v.push(iso_row(" (no isometry)", |i| i.enabled = false));
+    // Singular points at their drawn positions: S_P vertices inserted there (sim-core's
+    // sheet/refine.rs; opt-in, off by default).
+    v.push(with_geometry(
+        variant("newton", SolverConfig::default(), d),
+        "geometry",
+        GeometryConfig {
+            insert_singular_vertices: true,
+            ..g
+        },
+        " (vertex insertion at singular points)",
+    ));
     if !quick {
         // The seeds' schedule (isometry.rs "When it runs"): the step in every frame.
         v.push(iso_row(" (isometry every frame)", |i| {

@@ -11,9 +11,10 @@
 //!
 //! All arrays are sized once when the mesh is built; stepping only writes into them. The
 //! seeds regenerate S_P from S_G every frame (§2.2); our geometry layer ([`crate::geometry`])
-//! keeps S_P's connectivity instead (see its module doc) and only writes rest angles, damage,
-//! the singular list and positions; a future remeshing would rebuild this
-//! structure, which is allowed to allocate (a connectivity change is not a steady-state step).
+//! keeps S_P's connectivity between singular points (see its module doc) and only writes rest
+//! angles, damage, the singular list and positions; a vertex inserted at a singular point
+//! ([`crate::sheet::refine`]) builds a new mesh, which allocates (a connectivity change is
+//! not a steady-state step).
 
 use crate::math::{M2, V2, V3, sym2_eigen};
 use crate::physics::membrane::green_strain;
@@ -243,6 +244,12 @@ impl PhysMesh {
     /// pattern is bit-identical), and `rest_version` is bumped. No allocation. Returns the
     /// pattern displacement made (zero if `v` is on the boundary or no fraction fits).
     pub fn move_pattern_vertex(&mut self, v: u32, target: V2) -> V2 {
+        self.move_pattern_vertex_by(v, target, &[1.0, 0.5, 0.25])
+    }
+
+    /// [`Self::move_pattern_vertex`] trying only the given fractions of the move, in order
+    /// (`&[1.0]`: the full move or none).
+    pub fn move_pattern_vertex_by(&mut self, v: u32, target: V2, fractions: &[f64]) -> V2 {
         let vi = v as usize;
         if self.topo.vertex_on_boundary[vi] || !(target.x.is_finite() && target.y.is_finite()) {
             return V2::zeros();
@@ -279,7 +286,7 @@ impl PhysMesh {
                 lo > 0.5 * (0.98 * 0.98 - 1.0) && hi < 0.5 * (1.02 * 1.02 - 1.0)
             })
         };
-        let Some((p, x)) = [1.0, 0.5, 0.25].into_iter().find_map(|f| {
+        let Some((p, x)) = fractions.iter().find_map(|&f| {
             let p = old + (target - old) * f;
             let x = self.surface_point_over(v, old, p)?;
             (x.iter().all(|c| c.is_finite()) && fits(self, p, x)).then_some((p, x))

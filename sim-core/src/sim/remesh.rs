@@ -1,0 +1,207 @@
+//! # Refining S_P for a singular vertex (the sim's side of [`crate::sheet::refine`])
+//!
+//! When the geometry layer draws a singular vertex whose nearest S_P vertex cannot move to the
+//! drawn position s̄ in full, it leaves the point pending ([`GeometryLayer::take_pending_singular`]).
+//! Unless the crumple cap undoes that frame, at the start of the next step (so that a host
+//! stepping the sheet on its audio thread knows beforehand that this step allocates,
+//! [`Sim::refinement_pending`]; the singular vertex is made 5 ms later than it was drawn, and a
+//! sleeping sheet wakes) the sim inserts a vertex
+//! at s̄ ([`refine::insert_vertex_near`]: at s̄, or just outside the
+//! refusal distance of an existing vertex s̄ falls next to) and carries everything that is sized by S_P over to the
+//! refined mesh, the way a saved sheet is restored ([`Sim::restore`]): a new sparse system for
+//! the physics, the gesture rig rebuilt on the new mesh with its hands' state and held vertices
+//! kept (old vertices keep their indices), the geometry layer carried over
+//! ([`GeometryLayer::remeshed`]), fresh metrics references and per-vertex buffers one longer.
+//! The sound analysis, the obstacles and the random generators are not touched. Then the new
+//! vertex becomes the singular vertex, with its fibre damage.
+//!
+//! The insertion is refused (the point near a vertex or the boundary, a poorly shaped star,
+//! the mesh at the capacity the snapshots were sized for) — then the nearest vertex moves
+//! towards s̄ as far as its triangles allow, as without insertion.
+//!
+//! Building a mesh allocates: an insertion is an event (a new singular vertex, at most one per
+//! frame), like a reset, not a steady-state step.
+
+use super::Sim;
+use crate::collision::VertexContact;
+use crate::geometry::{GeometryLayer, PendingSingular};
+use crate::gesture_rig::GestureRig;
+use crate::math::V3;
+use crate::metrics::MetricsTracker;
+use crate::physics::Physics;
+use crate::sheet::Sheet;
+use crate::sheet::geometric::GeomStructure;
+use crate::sheet::refine::{self, Insertion};
+
+impl Sim {
+    /// Makes the pending singular vertex `p`: a new S_P vertex at s̄, else the nearest vertex
+    /// moved towards it.
+    pub(super) fn place_pending_singular(&mut self, p: &PendingSingular) {
+        // Last frame's events were read when its step returned; this one's start here.
+        self.geometry.start_events_early();
+        self.asleep = false;
+        self.quiet_frames = 0;
+        let (cap_v, cap_t) = self.mesh_capacity;
+        let sp = &self.sheet.sp;
+        let room = sp.num_vertices() < cap_v && sp.num_triangles() + 2 <= cap_t;
+        let inserted = room
+            .then(|| refine::insert_vertex_near(sp, p.sampled2).ok())
+            .flatten()
+            .and_then(|(ins, _)| self.adopt_refined(ins).ok());
+        match inserted {
+            Some(v) => {
+                self.geometry
+                    .singular_at_inserted(&mut self.sheet.sp, &mut self.sheet.sg, v, p);
+                self.inserted_vertices += 1;
+            }
+            None => {
+                self.geometry.singular_by_move(
+                    &mut self.sheet.sp,
+                    &mut self.sheet.sg,
+                    &self.fixed,
+                    p,
+                );
+            }
+        }
+        self.sheet.sg.pull_positions(&self.sheet.sp);
+    }
+
+    /// Replaces S_P by the refined mesh and rebuilds what is sized by it. Nothing changes if an
+    /// error is returned. Returns the new vertex.
+    fn adopt_refined(&mut self, ins: Insertion) -> Result<u32, String> {
+        let Insertion {
+            mesh,
+            vertex,
+            tri_parent,
+            ..
+        } = ins;
+        let n = mesh.num_vertices();
+        let sg = GeomStructure::initial(&mesh);
+        let mut sheet = Sheet {
+            size: self.sheet.size,
+            width_m: self.sheet.width_m,
+            length_m: self.sheet.length_m,
+            sp: mesh,
+            sg,
+        };
+        sheet.sp.singular.reserve(n);
+        sheet.sg.vertices.reserve(n);
+        let geometry: GeometryLayer = self.geometry.remeshed(
+            &sheet.sp,
+            &mut sheet.sg,
+            &tri_parent,
+            &self.material,
+            self.cfg.seed,
+        )?;
+        let mut rig = GestureRig::new(&sheet, self.cfg.room.home_height_m());
+        rig.state = self.rig.state.clone();
+        let (ownership, suppressed, pending) = self.rig.ownership_state();
+        rig.restore_ownership(&ownership, suppressed, pending)?;
+        self.physics = Physics::new(&sheet.sp);
+        self.metrics = MetricsTracker::new(&sheet.sp);
+        self.geometry = geometry;
+        self.rig = rig;
+        self.sheet = sheet;
+        self.fixed.resize(n, false);
+        self.kin_target.resize(n, V3::zeros());
+        self.forces.resize(n, V3::zeros());
+        self.contacts.resize(n, VertexContact::default());
+        Ok(vertex)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario;
+    use crate::scenario_run::state_hash;
+    use crate::script_runner::ScriptRunner;
+    use crate::sim::{FrameOutput, SimConfig};
+
+    /// Runs the full crumple for `frames` frames.
+    fn crumple(insert: bool, frames: u64) -> (Sim, ScriptRunner) {
+        let script = scenario::get("c5_full_crumple").unwrap();
+        let mut base = SimConfig::default();
+        base.geometry.insert_singular_vertices = insert;
+        let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
+        let mut sim = runner.start(base);
+        let mut out = FrameOutput::default();
+        for _ in 0..frames {
+            assert!(runner.drive(&mut sim, &mut out));
+            assert_eq!(out.stats.num_flipped, 0);
+        }
+        (sim, runner)
+    }
+
+    #[test]
+    fn singular_points_get_vertices_of_their_own_at_their_drawn_positions() {
+        let (sim, _) = crumple(true, 300);
+        let sp = &sim.sheet().sp;
+        let lattice_nv = Sim::new(SimConfig::default()).sheet().sp.num_vertices();
+        let inserted = sp.num_vertices() - lattice_nv;
+        assert!(inserted >= 3, "{inserted} vertices inserted");
+        assert_eq!(sim.inserted_vertices() as usize, inserted);
+        sp.topo.validate().unwrap();
+        sim.sheet().sg.validate(sp).unwrap();
+        let g = sim.geometry();
+        assert_eq!(g.tri_region.len(), sp.num_triangles());
+        assert_eq!(g.edge_dihedral_rad.len(), sp.num_edges());
+        // Every inserted vertex is a singular vertex, at its drawn position or nudged off it
+        // by less than half a triangle; with damage on its edges.
+        let spacing = SimConfig::default().mesh.spacing_m(sim.config().size);
+        let mut exact = 0;
+        for v in lattice_nv as u32..sp.num_vertices() as u32 {
+            let s = g
+                .singular
+                .iter()
+                .find(|s| s.sp_vertex == v)
+                .expect("an inserted vertex is singular");
+            let d = (s.pos2 - s.sampled2).norm();
+            assert!(d < 0.5 * spacing, "{d} m off s̄");
+            exact += usize::from(d < 1e-9);
+            for &j in sp.topo.neighbours(v) {
+                let e = sp.topo.find_edge(v, j).unwrap() as usize;
+                assert!(sp.edge_damage[e] > 0.0);
+            }
+        }
+        assert!(exact * 2 >= inserted, "{exact} of {inserted} exactly at s̄");
+        // Per-vertex buffers follow the mesh.
+        assert_eq!(sim.contacts().len(), sp.num_vertices());
+        let (cv, ct) = sim.mesh_capacity();
+        assert!(sp.num_vertices() <= cv && sp.num_triangles() <= ct);
+    }
+
+    #[test]
+    fn without_insertion_the_mesh_keeps_its_connectivity() {
+        let (sim, _) = crumple(false, 300);
+        let lattice = Sim::new(SimConfig::default());
+        assert_eq!(sim.inserted_vertices(), 0);
+        assert_eq!(sim.sheet().sp.triangles, lattice.sheet().sp.triangles);
+        assert!(!sim.geometry().singular.is_empty());
+    }
+
+    /// A refined sheet saved and restored continues bit-identically (the insertion rebuilds
+    /// what a restore builds).
+    #[test]
+    fn a_refined_sheet_restores_and_continues_exactly() {
+        let (mut sim, mut runner) = crumple(true, 260);
+        assert!(sim.inserted_vertices() > 0);
+        let mut restored = Sim::restore(*sim.config(), &sim.save()).unwrap();
+        let (mut o1, mut o2) = (FrameOutput::default(), FrameOutput::default());
+        let mut cmds = Vec::new();
+        for _ in 0..80 {
+            cmds.clear();
+            if !runner.next_frame(&mut cmds) {
+                break;
+            }
+            for c in &cmds {
+                sim.apply(*c);
+                restored.apply(*c);
+            }
+            sim.step(&mut o1);
+            restored.step(&mut o2);
+            assert_eq!(state_hash(&sim), state_hash(&restored));
+            assert_eq!(o1.stats, o2.stats);
+        }
+    }
+}
