@@ -1735,6 +1735,18 @@ impl GeometryLayer {
         self.pending.take()
     }
 
+    /// Vertex `v` becomes the pending singular vertex `p`.
+    fn make_pending_singular(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        v: u32,
+        p: &PendingSingular,
+    ) {
+        let (s2, case, c, d, f) = (p.sampled2, p.case, p.compression, p.dihedral_rad, p.frame);
+        self.make_singular(sp, sg, v, s2, case, c, d, f);
+    }
+
     /// The singular vertex waiting for an inserted S_P vertex, if any.
     pub fn pending_singular(&self) -> Option<&PendingSingular> {
         self.pending.as_ref()
@@ -1757,16 +1769,7 @@ impl GeometryLayer {
         v: u32,
         p: &PendingSingular,
     ) {
-        self.make_singular(
-            sp,
-            sg,
-            v,
-            p.sampled2,
-            p.case,
-            p.compression,
-            p.dihedral_rad,
-            p.frame,
-        );
+        self.make_pending_singular(sp, sg, v, p);
     }
 
     /// The fallback when no vertex can be inserted at s̄: the nearest vertex moves towards it
@@ -1792,16 +1795,7 @@ impl GeometryLayer {
         if sp.move_pattern_vertex(v, p.sampled2) != V2::zeros() {
             self.after_pattern_move(sp, v);
         }
-        self.make_singular(
-            sp,
-            sg,
-            v,
-            p.sampled2,
-            p.case,
-            p.compression,
-            p.dihedral_rad,
-            p.frame,
-        );
+        self.make_pending_singular(sp, sg, v, p);
         true
     }
 
