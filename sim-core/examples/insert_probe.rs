@@ -1,7 +1,7 @@
 //! Development probe: singular points at their drawn position, with and without vertex
 //! insertion (`GeometryConfig::insert_singular_vertices`), per seed scene.
 //!
-//! `cargo run --release -p sim-core --example insert_probe [-- NAME...]`
+//! `cargo run --release -p sim-core --example insert_probe [-- NAME[@SEED]...]`
 //!
 //! Per scene and mode: singular points, how many sit exactly at s̄ (pattern distance
 //! < 1 µm) and the largest distance, S_P vertices inserted, final mesh size, mean c_mean and
@@ -24,8 +24,20 @@ fn main() {
         "| scene | insertion | singular | at s̄ | max dist mm | inserted | vertices / triangles | c_mean % | max strain | deepest squeeze | ms/frame |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for name in &names {
-        let script = scenario::get(name).expect("scenario");
+    for arg in &names {
+        // `NAME@SEED` plays the scene with another seed.
+        let (name, seed) = match arg.split_once('@') {
+            Some((n, s)) => (n, Some(s.parse::<f64>().expect("seed"))),
+            None => (arg.as_str(), None),
+        };
+        let mut script = scenario::get(name).expect("scenario");
+        if let Some(seed) = seed {
+            script.set.retain(|(k, _)| k != "seed");
+            script
+                .set
+                .push(("seed".into(), sim_core::script::ScriptValue::Number(seed)));
+        }
+        let name = arg;
         for insert in [false, true] {
             let mut cfg = SimConfig::default();
             cfg.geometry.insert_singular_vertices = insert;

@@ -136,10 +136,9 @@
 //!   pattern lengths, state carried over), which then becomes the singular vertex. Where s̄
 //!   falls next to an existing vertex or the split would make thin triangles, the vertex goes
 //!   to the nearest accepted point (≤ half-way to its triangle's centre); where even that is
-//!   refused, the nearest vertex moves part of the way as before
-//!   **Opt-in for now** ([`GeometryConfig::insert_singular_vertices`], off by default: with it
-//!   off the nearest vertex moves part of the way everywhere, as before; the measurements
-//!   below were made with it on, and the full test suite has not yet been run with it on).
+//!   refused, the nearest vertex moves part of the way as before.
+//!   On by default ([`GeometryConfig::insert_singular_vertices`]; with it off the nearest
+//!   vertex moves part of the way everywhere and S_P's connectivity never changes).
 //!   Measured (`sim-core/examples/insert_probe.rs`, seed scenes): the full crumple C5 places
 //!   10 of its 20 singular points exactly at s̄ and the others within 1.9 cm (before: 1 of
 //!   20, up to 3.1 cm, a whole A4 edge); S4 17 of 35 (before 1 of 23).
@@ -268,8 +267,7 @@ pub struct GeometryConfig {
     /// Place a singular vertex exactly at its drawn position s̄: when the nearest S_P vertex
     /// cannot move there in full, a new S_P vertex is inserted at s̄ after the frame
     /// ([`crate::sheet::refine`]; off = the nearest vertex moves part of the way, or not at all).
-    /// Off by default until the seed scenes and the plugin's tests have been run with it on
-    /// (see the module doc, "A singular point gets an S_P vertex at s̄").
+    /// On by default (see the module doc, "A singular point gets an S_P vertex at s̄").
     pub insert_singular_vertices: bool,
 }
 
@@ -285,7 +283,7 @@ impl Default for GeometryConfig {
             gauss_eps_factor: 15.0,
             gauss_min_spacing_m: 0.02,
             isometry: IsometryConfig::default(),
-            insert_singular_vertices: false,
+            insert_singular_vertices: true,
         }
     }
 }

@@ -361,17 +361,50 @@ fn obj_vertices(path: &Path) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Distances between corresponding vertices of two meshes, centimetres.
+/// Distances between corresponding vertices of two meshes, centimetres. A vertex inserted at a
+/// singular point (sim-core's sheet/refine.rs) is appended and the others keep their indices,
+/// so the vertices both meshes have are compared; two runs may insert different ones (or one
+/// more), but never lose any of the starting sheet's.
 fn distances_cm<'a>(a: &'a [[f64; 3]], b: &'a [[f64; 3]]) -> impl Iterator<Item = f64> + 'a {
-    assert_eq!(a.len(), b.len(), "different meshes");
-    a.iter().zip(b).map(|(p, q)| {
+    let n = a.len().min(b.len());
+    assert!(n > 0, "an empty mesh");
+    a[..n].iter().zip(&b[..n]).map(|(p, q)| {
         100.0 * ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
     })
 }
 
 /// Mean distance between corresponding vertices, centimetres.
 fn mean_distance_cm(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    distances_cm(a, b).sum::<f64>() / a.len() as f64
+    distances_cm(a, b).sum::<f64>() / a.len().min(b.len()) as f64
+}
+
+/// Seed offsets the chaotic scenes are replayed with, to measure their own spread.
+const RESEED_OFFSETS: [u32; 2] = [1, 2];
+
+/// The seed a built-in scene sets (`seed` in its `set` list; 0 if none).
+fn script_seed(name: &str) -> u32 {
+    let script = sim_core::scenario::get(name).expect("scene");
+    script
+        .set
+        .iter()
+        .find(|(k, _)| k == "seed")
+        .and_then(|(_, v)| match v {
+            sim_core::script::ScriptValue::Number(x) => Some(*x as u32),
+            _ => None,
+        })
+        .unwrap_or(0)
+}
+
+/// Mean and worst (over frames) of the mean vertex-to-vertex distance between two OBJ
+/// sequences, centimetres (frames past the shorter one's end are not compared).
+fn sheet_difference_cm(a: &[PathBuf], b: &[PathBuf]) -> (f64, f64) {
+    let (mut worst, mut sum) = (0.0f64, 0.0);
+    for (fa, fb) in a.iter().zip(b) {
+        let d = mean_distance_cm(&obj_vertices(fa), &obj_vertices(fb));
+        worst = worst.max(d);
+        sum += d;
+    }
+    (sum / a.len().min(b.len()).max(1) as f64, worst)
 }
 
 /// Largest distance between corresponding vertices, centimetres.
@@ -380,12 +413,20 @@ fn max_distance_cm(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
 }
 
 /// Every scene exported as a MIDI performance (`--write-midi`, the README's map) and rendered
-/// back from it (`--midi` + the printed `--set` options) moves the sheet as the scene does: over
-/// the OBJ frames the sheets differ by a small fraction of how far the scene moves them (mean
-/// vertex distance < 1/4 of the largest vertex travel, worst frame < 1/2; measured: 0.1–5 % for
-/// the held and slid scenes, 18–21 % for the two crumples, whose buckling 7-bit CCs steer into
-/// other but similar folds), and the sound is finite. A performance missing its grabs or
-/// gestures leaves the sheet where it was and fails the worst-frame bound.
+/// back from it (`--midi` + the printed `--set` options) moves the sheet as the scene does, and
+/// the sound is finite. Over the OBJ frames the mean vertex-to-vertex distance of the two
+/// sheets stays < 1/4 of the largest vertex travel, worst frame < 1/2 (measured: 0.1–5 % for
+/// the held and slid scenes). A performance missing its grabs or gestures leaves the sheet
+/// where it was and fails the worst-frame bound.
+///
+/// The two crumples are chaotic: the performance's 7-bit CCs steer the buckling into other
+/// but similar folds, so where a given vertex ends up is not reproducible (measured: 18–21 %
+/// of the travel before vertex insertion at singular points, up to 37 % with it). They are
+/// held to how far the scene itself moves from one seed to another instead: the MIDI
+/// performance may differ from the scene by at most 1.5× the largest distance between the
+/// scene and the scene played with [`RESEED_OFFSETS`] other seeds (or by the fixed fractions,
+/// whichever is larger) — a performance that loses its crumple is farther from the scene than
+/// any crumple is.
 #[test]
 fn every_scene_plays_from_its_midi_performance() {
     let dir = paths::scratch("render_cli_scene_midi");
@@ -458,35 +499,43 @@ fn every_scene_plays_from_its_midi_performance() {
         let midi = obj_files(&render(&midi_args, "midi"));
         // The MIDI render lasts one second longer (a MIDI file's ringing tail).
         assert_eq!(midi.len(), scene.len() + 10, "{name}: OBJ frame counts");
-        let first = obj_vertices(&scene[0]);
-        let (mut moved, mut worst, mut sum) = (0.0f64, 0.0f64, 0.0);
-        for (a, b) in scene.iter().zip(&midi) {
-            let (va, vb) = (obj_vertices(a), obj_vertices(b));
-            moved = moved.max(max_distance_cm(&first, &va));
-            let d = mean_distance_cm(&va, &vb);
-            worst = worst.max(d);
-            sum += d;
-        }
-        let mean = sum / scene.len() as f64;
-        eprintln!(
-            "{name}: sheet moves up to {moved:.1} cm; MIDI vs scene: mean {mean:.2} cm, worst {worst:.2} cm"
-        );
-        assert!(moved > 1.0, "{name}: the scene does not move the sheet");
         // The crumples are chaotic: the MIDI performance's 7-bit crumple values differ from
         // the script's by up to 0.4 %, enough to change where the sheet buckles first and how
-        // far the squeeze gets (C5's singular count varies 8–22 with the seed,
-        // sim-core/tests/geometry.rs). Measured: C5 mean 2.2 cm, worst 3.4 cm of 9.0 cm; S4
-        // mean 2.0 cm, worst 3.1 cm of 9.1 cm. The other scenes follow the script closely
-        // (mean ≤ 0.7 cm).
-        let mean_frac = if matches!(name.as_str(), "c5_full_crumple" | "s4_crumple") {
-            0.35
-        } else {
-            0.25
-        };
+        // far the squeeze gets (C5's singular count varies with the seed,
+        // sim-core/tests/geometry.rs), so they compare placement and size (see the doc above).
+        let chaotic = matches!(name.as_str(), "c5_full_crumple" | "s4_crumple");
+        let first = obj_vertices(&scene[0]);
+        let moved = scene
+            .iter()
+            .map(|f| max_distance_cm(&first, &obj_vertices(f)))
+            .fold(0.0, f64::max);
+        assert!(moved > 1.0, "{name}: the scene does not move the sheet");
+        let (mean, worst) = sheet_difference_cm(&scene, &midi);
+        let (mut mean_bound, mut worst_bound) = (0.25 * moved, 0.5 * moved);
+        if chaotic {
+            let seed = script_seed(name);
+            for offset in RESEED_OFFSETS {
+                let seed = (seed + offset).to_string();
+                let tag = format!("seed{seed}");
+                let other = obj_files(&render(&["--scene", name, "--seed", &seed], &tag));
+                let (m, w) = sheet_difference_cm(&scene, &other);
+                eprintln!(
+                    "{name}: scene vs scene with seed {seed}: mean {m:.2} cm, worst {w:.2} cm"
+                );
+                assert!(m > 0.0, "{name}: --seed {seed} changed nothing");
+                mean_bound = mean_bound.max(1.5 * m);
+                worst_bound = worst_bound.max(1.5 * w);
+            }
+        }
+        eprintln!(
+            "{name}: sheet moves up to {moved:.1} cm; MIDI vs scene: mean {mean:.2} cm \
+             (bound {mean_bound:.2}), worst {worst:.2} cm (bound {worst_bound:.2})"
+        );
         assert!(
-            mean < mean_frac * moved && worst < 0.5 * moved,
+            mean < mean_bound && worst < worst_bound,
             "{name}: the MIDI performance moves the sheet differently (mean {mean:.2} cm, worst \
-             {worst:.2} cm, the scene moves it {moved:.1} cm)"
+             {worst:.2} cm, the scene moves it {moved:.1} cm; bounds {mean_bound:.2} / \
+             {worst_bound:.2} cm)"
         );
     }
 }

@@ -274,16 +274,17 @@ fn variants(quick: bool) -> Vec<Variant> {
         )
     };
     v.push(iso_row(" (no isometry)", |i| i.enabled = false));
-    // Singular points at their drawn positions: S_P vertices inserted there (sim-core's
-    // sheet/refine.rs; opt-in, off by default).
+    // Singular points without S_P vertex insertion (sim-core's sheet/refine.rs, on by
+    // default): the nearest vertex moves towards the drawn position, part of the way where its
+    // triangles would degrade, and the mesh never changes.
     v.push(with_geometry(
         variant("newton", SolverConfig::default(), d),
         "geometry",
         GeometryConfig {
-            insert_singular_vertices: true,
+            insert_singular_vertices: false,
             ..g
         },
-        " (vertex insertion at singular points)",
+        " (no vertex insertion: nearest vertex moved)",
     ));
     if !quick {
         // The seeds' schedule (isometry.rs "When it runs"): the step in every frame.
