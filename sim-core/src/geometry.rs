@@ -137,11 +137,17 @@
 //!   falls next to an existing vertex or the split would make thin triangles, the vertex goes
 //!   to the nearest accepted point (≤ half-way to its triangle's centre); where even that is
 //!   refused, the nearest vertex moves part of the way as before.
-//!   On by default ([`GeometryConfig::insert_singular_vertices`]; with it off the nearest
-//!   vertex moves part of the way everywhere and S_P's connectivity never changes).
-//!   Measured (`sim-core/examples/insert_probe.rs`, seed scenes): the full crumple C5 places
-//!   10 of its 20 singular points exactly at s̄ and the others within 1.9 cm (before: 1 of
-//!   20, up to 3.1 cm, a whole A4 edge); S4 17 of 35 (before 1 of 23).
+//!   **Opt-in** ([`GeometryConfig::insert_singular_vertices`], off by default: with it off
+//!   the nearest vertex moves part of the way everywhere and S_P's connectivity never
+//!   changes). Why not on: the small triangles around an inserted vertex fold tightly enough
+//!   to cross one another (`tests/self_contact.rs`: 0.04 mm deep), the crumple cap's
+//!   pass-through guard then undoes those frames, and the squeeze backs off early — the
+//!   full crumple C5 left 3, 8 and 8 singular points for seeds 1, 3 and 6 (without insertion:
+//!   22, 17, 17). Sheet–sheet contact, or a guard that tells a crossing inside one fold from
+//!   two layers, would lift that. Measured with it on (`sim-core/examples/insert_probe.rs`,
+//!   seed scenes): the full crumple C5 (seed 5) places 9 of its 18 singular points exactly
+//!   at s̄ and the others within 1.9 cm (off: 1 of 20, up to 3.1 cm, a whole A4 edge); over
+//!   seeds 1–8, 2–13 per run exactly at s̄ against 0–5 off.
 //!   When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
 //! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
 //!   triangulation of a flat region show a fold across its other diagonal; here flat regions
@@ -267,7 +273,8 @@ pub struct GeometryConfig {
     /// Place a singular vertex exactly at its drawn position s̄: when the nearest S_P vertex
     /// cannot move there in full, a new S_P vertex is inserted at s̄ after the frame
     /// ([`crate::sheet::refine`]; off = the nearest vertex moves part of the way, or not at all).
-    /// On by default (see the module doc, "A singular point gets an S_P vertex at s̄").
+    /// Off by default (see the module doc, "A singular point gets an S_P vertex at s̄", for
+    /// why).
     pub insert_singular_vertices: bool,
 }
 
@@ -283,7 +290,7 @@ impl Default for GeometryConfig {
             gauss_eps_factor: 15.0,
             gauss_min_spacing_m: 0.02,
             isometry: IsometryConfig::default(),
-            insert_singular_vertices: true,
+            insert_singular_vertices: false,
         }
     }
 }

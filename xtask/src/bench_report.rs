@@ -274,17 +274,16 @@ fn variants(quick: bool) -> Vec<Variant> {
         )
     };
     v.push(iso_row(" (no isometry)", |i| i.enabled = false));
-    // Singular points without S_P vertex insertion (sim-core's sheet/refine.rs, on by
-    // default): the nearest vertex moves towards the drawn position, part of the way where its
-    // triangles would degrade, and the mesh never changes.
+    // Singular points at their drawn positions: S_P vertices inserted there (sim-core's
+    // sheet/refine.rs; opt-in, off by default).
     v.push(with_geometry(
         variant("newton", SolverConfig::default(), d),
         "geometry",
         GeometryConfig {
-            insert_singular_vertices: false,
+            insert_singular_vertices: true,
             ..g
         },
-        " (no vertex insertion: nearest vertex moved)",
+        " (vertex insertion at singular points)",
     ));
     if !quick {
         // The seeds' schedule (isometry.rs "When it runs"): the step in every frame.
