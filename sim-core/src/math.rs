@@ -39,6 +39,15 @@ pub fn finite3(v: &V3) -> bool {
     v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
 }
 
+/// Barycentric coordinates of `p` in the 2D triangle (a, b, c) (pattern points): weights
+/// summing to 1, all ≥ 0 inside; non-finite for a degenerate triangle.
+pub fn barycentric2(a: V2, b: V2, c: V2, p: V2) -> [f64; 3] {
+    let det = (b - a).perp(&(c - a));
+    let l1 = (p - a).perp(&(c - a)) / det;
+    let l2 = (b - a).perp(&(p - a)) / det;
+    [1.0 - l1 - l2, l1, l2]
+}
+
 /// Eigen-decomposition of a symmetric 2×2 matrix `[[a, b], [b, c]]`: returns
 /// `(λ_min, λ_max, v_min)` with `v_min` the unit eigenvector of `λ_min` (closed form,
 /// digest-crumpling §3.2).

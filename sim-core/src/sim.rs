@@ -716,22 +716,18 @@ impl Sim {
             self.geometry.idle_frame(self.frame);
         }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
-        let mut undone = false;
         if guard {
             if self.undo_pass_through(frame_scale) {
                 self.sheet.sg.pull_positions(&self.sheet.sp);
                 self.geometry.sync_positions(&self.sheet.sp);
                 self.rig.state.undo_streak += 1;
-                undone = true;
+                // A singular vertex drawn this frame where no S_P vertex could move would get
+                // a vertex inserted at the start of the next step (sim/remesh.rs); it is
+                // dropped with the undone frame.
+                self.geometry.take_pending_singular();
             } else {
                 self.rig.state.undo_streak = 0;
             }
-        }
-        // A singular vertex drawn where no S_P vertex could move waits for a vertex inserted
-        // at the start of the next step (sim/remesh.rs), unless the frame was undone (the
-        // point is dropped with the frame).
-        if undone {
-            self.geometry.take_pending_singular();
         }
         self.phase_ns.self_contact_ns += self.stopwatch.lap_ns();
         self.update_contacts();

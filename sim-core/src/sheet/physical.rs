@@ -16,7 +16,7 @@
 //! ([`crate::sheet::refine`]) builds a new mesh, which allocates (a connectivity change is
 //! not a steady-state step).
 
-use crate::math::{M2, V2, V3, sym2_eigen};
+use crate::math::{M2, V2, V3, barycentric2, sym2_eigen};
 use crate::physics::membrane::green_strain;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::topology::{NONE, Topology, TopologyError};
@@ -219,10 +219,7 @@ impl PhysMesh {
         let mut best: Option<(f64, V3)> = None;
         for tri in self.triangles.iter().filter(|t| t.contains(&v)) {
             let [a, b, c] = tri.map(at);
-            let det = (b - a).perp(&(c - a));
-            let l1 = (p - a).perp(&(c - a)) / det;
-            let l2 = (b - a).perp(&(p - a)) / det;
-            let l0 = 1.0 - l1 - l2;
+            let [l0, l1, l2] = barycentric2(a, b, c, p);
             let inside = l0.min(l1).min(l2);
             if best.is_none_or(|(m, _)| inside > m) {
                 let [x0, x1, x2] = tri.map(|i| self.pos[i as usize]);

@@ -52,7 +52,7 @@
 //!
 //! Building a mesh allocates; an insertion is an event, like a reset, not a steady-state step.
 
-use crate::math::{V2, V3};
+use crate::math::{V2, V3, barycentric2};
 use crate::physics::bending::dihedral;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::physical::{MeshError, PhysMesh};
@@ -104,32 +104,19 @@ pub struct Insertion {
     pub flips: usize,
 }
 
-/// Barycentric coordinates of `p` in the pattern triangle (a, b, c).
-fn barycentric(a: V2, b: V2, c: V2, p: V2) -> [f64; 3] {
-    let det = (b - a).perp(&(c - a));
-    let l1 = (p - a).perp(&(c - a)) / det;
-    let l2 = (b - a).perp(&(p - a)) / det;
-    [1.0 - l1 - l2, l1, l2]
-}
-
 /// The triangle of `triangles` containing `p` (largest smallest barycentric coordinate), with
 /// the coordinates. `None` when `p` is outside by more than a rounding error.
 fn locate(points: &[V2], triangles: &[[u32; 3]], p: V2) -> Option<(usize, [f64; 3])> {
     let mut best: Option<(usize, [f64; 3], f64)> = None;
     for (t, tri) in triangles.iter().enumerate() {
         let [a, b, c] = tri.map(|i| points[i as usize]);
-        let l = barycentric(a, b, c, p);
+        let l = barycentric2(a, b, c, p);
         let m = l[0].min(l[1]).min(l[2]);
         if m.is_finite() && best.is_none_or(|(_, _, bm)| m > bm) {
             best = Some((t, l, m));
         }
     }
     best.filter(|&(_, _, m)| m > -1e-9).map(|(t, l, _)| (t, l))
-}
-
-/// Twice the signed area of (a, b, c) > 0 when counter-clockwise.
-fn orient(a: V2, b: V2, c: V2) -> f64 {
-    (b - a).perp(&(c - a))
 }
 
 /// True if `d` lies strictly inside the circumcircle of the counter-clockwise triangle (a, b, c).
@@ -380,7 +367,7 @@ fn split_and_flip(
             continue;
         }
         // Convex quad: u and w on opposite sides of the new diagonal n–x.
-        if orient(pn, px, pu) * orient(pn, px, pw) >= 0.0 {
+        if signed_area(pn, px, pu) * signed_area(pn, px, pw) >= 0.0 {
             continue;
         }
         if let Some(e) = old_edge(u, w)
