@@ -21,9 +21,9 @@ fn main() {
         args
     };
     println!(
-        "| scene | insertion | singular | at s̄ | max dist mm | inserted | vertices / triangles | c_mean % | max strain | deepest squeeze | ms/frame |"
+        "| scene | insertion | singular | at s̄ | max dist mm | inserted | vertices / triangles | c_mean % | max strain | deepest squeeze | undone frames | ms/frame |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for arg in &names {
         // `NAME@SEED` plays the scene with another seed.
         let (name, seed) = match arg.split_once('@') {
@@ -47,6 +47,7 @@ fn main() {
             let mut out = FrameOutput::default();
             let (mut c_sum, mut awake, mut strain) = (0.0f64, 0u64, 0.0f32);
             let mut deepest = 0.0f64;
+            let mut undone = 0u64;
             let t0 = Instant::now();
             while runner.drive(&mut sim, &mut out) {
                 if !out.stats.asleep {
@@ -75,6 +76,7 @@ fn main() {
                         ed.v.map(|v| sp.singular.contains(&v))
                     );
                 }
+                undone += u64::from(out.stats.undo_streak > 0);
                 let (sq, lim) = sim.crumple_squeeze();
                 deepest = deepest.max(sq.min(lim));
                 if std::env::var("PAPIER_TRACE_SQUEEZE").is_ok() && sim.frame().is_multiple_of(25) {
@@ -97,7 +99,7 @@ fn main() {
             let dmax = dists.iter().copied().fold(0.0, f64::max);
             let sp = &sim.sheet().sp;
             println!(
-                "| {name} | {} | {} | {exact} | {:.1} | {} | {} / {} | {:.4} | {:.3} | {deepest:.2} | {:.3} |",
+                "| {name} | {} | {} | {exact} | {:.1} | {} | {} / {} | {:.4} | {:.3} | {deepest:.2} | {undone} | {:.3} |",
                 if insert { "on" } else { "off" },
                 g.singular.len(),
                 dmax * 1e3,

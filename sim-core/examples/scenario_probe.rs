@@ -1,5 +1,6 @@
 //! Runs every library scenario with a solver configuration given on the command line and
-//! prints a one-line summary per scenario (timing, length error, health).
+//! prints a one-line summary per scenario (timing, length error, health, and the final state
+//! hash: a change that must not alter the simulation leaves every hash as it was).
 //!
 //! `cargo run --release -p sim-core --example scenario_probe -- [newton|xpbd] SUBSTEPS ITERS
 //! [STRETCH_SCALE] [SPACING_FRAC] [SCENARIO]`
@@ -39,7 +40,7 @@ fn main() {
         }
         let s = run_scenario(name, cfg, true).expect("scenario");
         println!(
-            "{name:30} tris {:4.0} awake {:4}/{:4} med {:6.3} p99 {:6.3} ms geom {:6.3} ms  c_mean {:6.3}% n_comp {:6.2}% strain {:6.3} it/sub {:4.2} flips {} rec {} vmax {:5.2} ke {:.2e}",
+            "{name:30} tris {:4.0} awake {:4}/{:4} med {:6.3} p99 {:6.3} ms geom {:6.3} ms  c_mean {:6.3}% n_comp {:6.2}% strain {:6.3} it/sub {:4.2} flips {} rec {} vmax {:5.2} ke {:.2e} hash {:016x}",
             s.triangles_avg,
             s.awake_frames,
             s.frames,
@@ -53,7 +54,8 @@ fn main() {
             s.flips,
             s.recoveries,
             s.max_speed_m_s,
-            s.kinetic_energy_max_j
+            s.kinetic_energy_max_j,
+            s.final_hash
         );
     }
 }

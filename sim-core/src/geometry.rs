@@ -143,8 +143,19 @@
 //!   to cross one another (`tests/self_contact.rs`: 0.04 mm deep), the crumple cap's
 //!   pass-through guard then undoes those frames, and the squeeze backs off early — the
 //!   full crumple C5 left 3, 8 and 8 singular points for seeds 1, 3 and 6 (without insertion:
-//!   22, 17, 17). Sheet–sheet contact, or a guard that tells a crossing inside one fold from
-//!   two layers, would lift that. Measured with it on (`sim-core/examples/insert_probe.rs`,
+//!   22, 17, 17). How it happens (C5 seed 1, traced): a vertex inserted 1 mm from a lattice
+//!   edge gets four edges, each damaged D/4 = 2.5, which fold 90° while an undamaged lattice
+//!   hinge 3 cm away folds −105°: a Z-fold whose outer triangles, 1 cm apart in the pattern,
+//!   cross. Pairs that close in the pattern are not measured by the closest approach
+//!   ([`crate::self_proximity`]), so the squeeze is not slowed; the guard undoes the frame and
+//!   the crumple limit then holds for the rest of the gesture (squeeze 0.43, off: 0.77). Two
+//!   remedies were measured and rejected (`insert_probe`, C5 seeds 1–8): measuring such pairs
+//!   to scale (distance × 0.75 spacing / pattern gap) removes the blind spot but stops the
+//!   squeeze earlier (2, 10, 8, 13, 2, 8, 17, 24 singular points); lifting the limit once the
+//!   closest approach is back above 2 cm gives 15, 21, 8, 17, 18, 12, 17, 24, but only through
+//!   an undo loop (538 of seed 1's 900 frames undone: the sheet stalls and jumps). Both point
+//!   to sheet–sheet contact, or a guard that tells a crossing inside one fold from two
+//!   layers. Measured with it on (`sim-core/examples/insert_probe.rs`,
 //!   seed scenes): the full crumple C5 (seed 5) places 9 of its 18 singular points exactly
 //!   at s̄ and the others within 1.9 cm (off: 1 of 20, up to 3.1 cm, a whole A4 edge); over
 //!   seeds 1–8, 2–13 per run exactly at s̄ against 0–5 off.
