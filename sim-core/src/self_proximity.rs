@@ -31,13 +31,13 @@
 //! found so far — the last query's closest pair is measured first, so that bound is usually
 //! tight from the start (the result is the same minimum in any order; on C5 and S4, with
 //! bit-identical runs, the self-contact phase took 0.69–0.80× its former time, measured with
-//! `sim-core/examples/scenario_probe.rs`). The pattern-gap filter
-//! answers from the two triangles' pattern boxes when those are clearly farther apart than
-//! the gap, and measures only the pairs left. Narrow phase: parry3d's GJK distance between
-//! the two triangles, in coordinates relative to the mesh centroid (f32 keeps ~10 nm there,
-//! far below the millimetre thresholds). On a sheet that is nowhere folded over, only near
-//! neighbours survive the broad phase. All buffers are kept between calls: the steady state
-//! does not allocate.
+//! `sim-core/examples/scenario_probe.rs`). The pattern-gap filter answers from the two
+//! triangles' pattern boxes when those are clearly farther apart than the gap, and measures
+//! only the pairs left. Narrow phase: parry3d's GJK distance between the two triangles, in
+//! coordinates relative to the mesh centroid (f32 keeps ~10 nm there, far below the
+//! millimetre thresholds). On a sheet that is nowhere folded over, only near neighbours
+//! survive the broad phase. All buffers are kept between calls: the steady state does not
+//! allocate.
 
 use parry3d::math::{Pose, Vector};
 use parry3d::query::{distance, intersection_test};
@@ -96,28 +96,35 @@ impl SelfProximity {
         let mut best_pair = None;
         let min_gap_m = self.min_pattern_gap_m;
         let seed = self.last_pair;
-        self.sweep(sp, reach_m, seed, |gap_m, a, b, centre, pattern_boxes| {
-            // The boxes' gap bounds the triangles' distance from below: skip pairs that cannot
-            // beat the closest one found so far (the last query's closest pair, measured
-            // first, usually sets a tight bound at once).
-            if gap_m >= best {
-                return false;
-            }
-            if min_gap_m > 0.0 && pattern_closer_than(sp, pattern_boxes, a, b, min_gap_m) {
-                return false;
-            }
-            let (ta, tb) = (
-                centred_triangle(sp, a as usize, centre),
-                centred_triangle(sp, b as usize, centre),
-            );
-            let d = distance(&Pose::IDENTITY, &ta, &Pose::IDENTITY, &tb)
-                .map_or(f64::INFINITY, |d| f64::from(d.distance));
-            if d < best {
-                best = d;
-                best_pair = Some((a, b));
-            }
-            false
-        });
+        let filtered = min_gap_m > 0.0;
+        self.sweep(
+            sp,
+            reach_m,
+            seed,
+            filtered,
+            |gap_m, a, b, centre, pattern_boxes| {
+                // The boxes' gap bounds the triangles' distance from below: skip pairs that cannot
+                // beat the closest one found so far (the last query's closest pair, measured
+                // first, usually sets a tight bound at once).
+                if gap_m >= best {
+                    return false;
+                }
+                if filtered && pattern_closer_than(sp, pattern_boxes, a, b, min_gap_m) {
+                    return false;
+                }
+                let (ta, tb) = (
+                    centred_triangle(sp, a as usize, centre),
+                    centred_triangle(sp, b as usize, centre),
+                );
+                let d = distance(&Pose::IDENTITY, &ta, &Pose::IDENTITY, &tb)
+                    .map_or(f64::INFINITY, |d| f64::from(d.distance));
+                if d < best {
+                    best = d;
+                    best_pair = Some((a, b));
+                }
+                false
+            },
+        );
         self.last_pair = best_pair;
         if best > reach_m { f64::INFINITY } else { best }
     }
@@ -126,7 +133,7 @@ impl SelfProximity {
     /// test; a pair touching within f32 rounding may count). Every such pair is tested, however
     /// close in the pattern. Stops at the first such pair.
     pub fn any_crossing(&mut self, sp: &PhysMesh) -> bool {
-        self.sweep(sp, 0.0, None, |_, a, b, centre, _| {
+        self.sweep(sp, 0.0, None, false, |_, a, b, centre, _| {
             let (ta, tb) = (
                 centred_triangle(sp, a as usize, centre),
                 centred_triangle(sp, b as usize, centre),
@@ -139,8 +146,9 @@ impl SelfProximity {
     /// Broad phase: calls `visit(gap, a, b, centre, pattern_boxes)` for every vertex-disjoint
     /// pair of triangles `a`, `b` whose boxes are less than `reach_m` apart (`gap`, metres: the
     /// distance between the two boxes, a lower bound of the triangles' distance; `centre`: the
-    /// mesh centroid the narrow phase measures from), until it returns true; returns whether
-    /// one did. The pair `seed`, if given and still valid, is visited first (and again in
+    /// mesh centroid the narrow phase measures from; `pattern_boxes`: the triangles' pattern
+    /// boxes, filled only if `pattern` is set, else empty), until it returns true; returns
+    /// whether one did. The pair `seed`, if given and still valid, is visited first (and again in
     /// its turn), oriented as the sweep orients it, so the narrow phase sees the same
     /// triangles in the same order.
     fn sweep(
@@ -148,6 +156,7 @@ impl SelfProximity {
         sp: &PhysMesh,
         reach_m: f64,
         seed: Option<(u32, u32)>,
+        pattern: bool,
         mut visit: impl FnMut(f64, u32, u32, V3, &[(V2, V2)]) -> bool,
     ) -> bool {
         let nt = sp.triangles.len();
@@ -162,10 +171,12 @@ impl SelfProximity {
             (a.inf(&b).inf(&c), a.sup(&b).sup(&c))
         }));
         self.pattern_boxes.clear();
-        self.pattern_boxes.extend(sp.triangles.iter().map(|t| {
-            let [a, b, c] = t.map(|v| sp.pattern[v as usize]);
-            (a.inf(&b).inf(&c), a.sup(&b).sup(&c))
-        }));
+        if pattern {
+            self.pattern_boxes.extend(sp.triangles.iter().map(|t| {
+                let [a, b, c] = t.map(|v| sp.pattern[v as usize]);
+                (a.inf(&b).inf(&c), a.sup(&b).sup(&c))
+            }));
+        }
         self.order.clear();
         self.order.extend(0..nt as u32);
         let boxes = &self.boxes;
