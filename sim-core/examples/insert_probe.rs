@@ -1,7 +1,8 @@
 //! Development probe: singular points at their drawn position, with and without vertex
 //! insertion (`GeometryConfig::insert_singular_vertices`), per seed scene.
 //!
-//! `cargo run --release -p sim-core --example insert_probe [-- NAME[@SEED]...]`
+//! `cargo run --release -p sim-core --example insert_probe [-- NAME[@SEED]...]` (`ISO=0`: isometry
+//! step off)
 //!
 //! Per scene and mode: singular points, how many sit exactly at s̄ (pattern distance
 //! < 1 µm) and the largest distance, S_P vertices inserted, final mesh size, mean c_mean and
@@ -41,6 +42,9 @@ fn main() {
         for insert in [false, true] {
             let mut cfg = SimConfig::default();
             cfg.geometry.insert_singular_vertices = insert;
+            if std::env::var("ISO").is_ok_and(|v| v == "0") {
+                cfg.geometry.isometry.enabled = false;
+            }
             let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default())
                 .expect("runner");
             let mut sim = runner.start(cfg);

@@ -3,7 +3,8 @@
 //! hash: a change that must not alter the simulation leaves every hash as it was).
 //!
 //! `cargo run --release -p sim-core --example scenario_probe -- [newton|xpbd] SUBSTEPS ITERS
-//! [STRETCH_SCALE] [SPACING_FRAC] [SCENARIO]`
+//! [STRETCH_SCALE] [SPACING_FRAC] [SCENARIO]`; `SHEET_CONTACT=0` switches sheet–sheet contact
+//! off, `INSERT=0` vertex insertion at singular points.
 
 use sim_core::physics::SolverKind;
 use sim_core::scenario;
@@ -33,6 +34,12 @@ fn main() {
         cfg.mesh.spacing_frac = s.parse().expect("spacing");
     }
     let only = args.get(5).cloned();
+    if std::env::var("SHEET_CONTACT").is_ok_and(|v| v == "0") {
+        cfg.solver.sheet_contact = false;
+    }
+    if std::env::var("INSERT").is_ok_and(|v| v == "0") {
+        cfg.geometry.insert_singular_vertices = false;
+    }
     println!("{:?}", cfg.solver);
     for name in scenario::names() {
         if only.as_deref().is_some_and(|o| o != name) {

@@ -5,8 +5,8 @@
 //! Our obstacles are the rigid planes of the room ([`crate::room`]): the floor z = 0 (always),
 //! the table top (if on) and the wall (if on). Against a half-space a vertex test is one dot
 //! product, so no broad phase is needed; parry3d's `HalfSpace` would only wrap the same
-//! arithmetic (its contact query is used in a test as a cross-check). Sheet–sheet contact is a
-//! later issue.
+//! arithmetic (its contact query is used in a test as a cross-check). Sheet–sheet contact is
+//! [`crate::physics::sheet_contact`].
 //!
 //! **Normal response** is a one-sided quadratic penalty inside the implicit step's energy, so
 //! the Newton solver sees the obstacle (a sheet pressed on the table by the hands bends instead

@@ -137,28 +137,22 @@
 //!   falls next to an existing vertex or the split would make thin triangles, the vertex goes
 //!   to the nearest accepted point (≤ half-way to its triangle's centre); where even that is
 //!   refused, the nearest vertex moves part of the way as before.
-//!   **Opt-in** ([`GeometryConfig::insert_singular_vertices`], off by default: with it off
-//!   the nearest vertex moves part of the way everywhere and S_P's connectivity never
-//!   changes). Why not on: the small triangles around an inserted vertex fold tightly enough
-//!   to cross one another (`tests/self_contact.rs`: 0.04 mm deep), the crumple cap's
-//!   pass-through guard then undoes those frames, and the squeeze backs off early — the
-//!   full crumple C5 left 3, 8 and 8 singular points for seeds 1, 3 and 6 (without insertion:
-//!   22, 17, 17). How it happens (C5 seed 1, traced): a vertex inserted 1 mm from a lattice
-//!   edge gets four edges, each damaged D/4 = 2.5, which fold 90° while an undamaged lattice
-//!   hinge 3 cm away folds −105°: a Z-fold whose outer triangles, 1 cm apart in the pattern,
-//!   cross. Pairs that close in the pattern are not measured by the closest approach
-//!   ([`crate::self_proximity`]), so the squeeze is not slowed; the guard undoes the frame and
-//!   the crumple limit then holds for the rest of the gesture (squeeze 0.43, off: 0.77). Two
-//!   remedies were measured and rejected (`insert_probe`, C5 seeds 1–8): measuring such pairs
-//!   to scale (distance × 0.75 spacing / pattern gap) removes the blind spot but stops the
-//!   squeeze earlier (2, 10, 8, 13, 2, 8, 17, 24 singular points); lifting the limit once the
-//!   closest approach is back above 2 cm gives 15, 21, 8, 17, 18, 12, 17, 24, but only through
-//!   an undo loop (538 of seed 1's 900 frames undone: the sheet stalls and jumps). Both point
-//!   to sheet–sheet contact, or a guard that tells a crossing inside one fold from two
-//!   layers. Measured with it on (`sim-core/examples/insert_probe.rs`,
-//!   seed scenes): the full crumple C5 (seed 5) places 9 of its 18 singular points exactly
-//!   at s̄ and the others within 1.9 cm (off: 1 of 20, up to 3.1 cm, a whole A4 edge); over
-//!   seeds 1–8, 2–13 per run exactly at s̄ against 0–5 off.
+//!   **On by default** ([`GeometryConfig::insert_singular_vertices`]; off: the nearest vertex
+//!   moves part of the way everywhere and S_P's connectivity never changes). It was opt-in
+//!   while insertion stopped the full crumple early (C5 seed 1: 3 singular points, squeeze
+//!   0.43). The cause was not the mesh: parry3d's GJK on two triangles, in metres, reported
+//!   two layers 7 mm apart as crossing (its tolerances are absolute), the pass-through guard
+//!   undid the frame and the crumple limit held. With exact distances
+//!   ([`crate::triangle_distance`]) one real defect remained: the new vertex, relaxed onto its
+//!   pattern lengths, could cross a layer of a fold 1.4 mm away, and every later frame was
+//!   undone from that crossed start (C5 seed 2: 461 undone frames); the relaxation now
+//!   refuses such steps and an insertion that makes the sheet cross itself is refused
+//!   (`sim/remesh.rs`). Measured with `sim-core/examples/insert_probe.rs` (C5 seeds 1–8,
+//!   insertion on / off): 26/24, 30/20, 22/17, 25/19, 23/20, 23/17, 17/13, 27/22 singular
+//!   points, 10–15 per run exactly at s̄ (off: 1–5), 13–25 vertices inserted; S4 35/23; no
+//!   undone frame in either mode; c_mean and the largest strain as with insertion off; time
+//!   per frame 1.1–1.5× (the mesh grows). The twist, the double bend and the other scenes
+//!   place the same singular points either way.
 //!   When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
 //! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
 //!   triangulation of a flat region show a fold across its other diagonal; here flat regions
@@ -179,7 +173,7 @@
 //! | 2 ρ | ρ_bound = 1.2/cm bounds the ruling spacing from below; S_P density is [`crate::sheet::MeshConfig`] (≈ 130–190 triangles) |
 //! | 3 order | Fig. 16 order (analysis → junctions/classification → cones → isometry); classification runs first since it also decides which triangles are analysed |
 //! | 4 t_iso | per-frame budget = Table V: Phase I is capped at `IsometryConfig::phase1_max_iters` (40, stops early), not run to convergence |
-//! | 5 N_s | the target is ≥ 15 for the full crumple, met by the median over seeds 1–8 (19.5); per seed 13–22, since the crumple cap stops the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
+//! | 5 N_s | the target is ≥ 15 for the full crumple: 17–30 per seed over seeds 1–8 (median 24.5; without vertex insertion 13–24), the crumple cap stopping the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
 //! | 6 ε_blaschke | RMS distance √(e/N) compared with 0.5 % L_paper |
 //! | 7 λ | c_t = 1 − λ_min |
 //! | 8 fibre damage | interior singular vertices only, sign of the fold at creation, D = 10 applied |
@@ -210,6 +204,7 @@ use crate::collision::{CONTACT_SKIN_M, Obstacles};
 use crate::material::PaperMaterial;
 use crate::math::{V2, V3, sym2_eigen};
 use crate::physics::bending::dihedral;
+use crate::self_proximity::SelfProximity;
 use crate::sheet::geometric::{GVertex, GeomStructure, VKind};
 use crate::sheet::physical::PhysMesh;
 use crate::sheet::topology::NONE;
@@ -283,9 +278,9 @@ pub struct GeometryConfig {
     pub isometry: IsometryConfig,
     /// Place a singular vertex exactly at its drawn position s̄: when the nearest S_P vertex
     /// cannot move there in full, a new S_P vertex is inserted at s̄ after the frame
-    /// ([`crate::sheet::refine`]; off = the nearest vertex moves part of the way, or not at all).
-    /// Off by default (see the module doc, "A singular point gets an S_P vertex at s̄", for
-    /// why).
+    /// ([`crate::sheet::refine`]; off = the nearest vertex moves part of the way, or not at all,
+    /// and S_P's connectivity never changes). On by default (see the module doc, "A singular
+    /// point gets an S_P vertex at s̄").
     pub insert_singular_vertices: bool,
 }
 
@@ -301,7 +296,7 @@ impl Default for GeometryConfig {
             gauss_eps_factor: 15.0,
             gauss_min_spacing_m: 0.02,
             isometry: IsometryConfig::default(),
-            insert_singular_vertices: false,
+            insert_singular_vertices: true,
         }
     }
 }
@@ -797,6 +792,8 @@ pub struct GeometryLayer {
     ruling_next: Vec<RulingInfo>,
     ruling_map: Vec<u32>,
     pos_before: Vec<V3>,
+    /// Crossing test of the isometry's correction.
+    proximity: SelfProximity,
     iso: Isometry,
     rng: rand_pcg::Pcg32,
     iso_undriven_compression: f64,
@@ -903,6 +900,7 @@ impl GeometryLayer {
             ruling_next: Vec::with_capacity(nreg),
             ruling_map: Vec::with_capacity(nreg),
             pos_before: vec![V3::zeros(); nv],
+            proximity: SelfProximity::with_capacity(sp.num_triangles()),
             iso: Isometry::new(sp),
             rng: rand_pcg::Pcg32::seed_from_u64(layer_seed(seed)),
             iso_undriven_compression: 0.0,
@@ -2472,6 +2470,17 @@ impl GeometryLayer {
                 self.out.isometry_reverted = true;
                 break;
             }
+        }
+        // Nor carry one layer through another: the correction knows nothing of sheet–sheet
+        // contact, and layers held 1.5 mm apart by it (physics/sheet_contact.rs) are within a
+        // correction's reach (measured with the crumple cap lowered to 0.5 mm: the corrected
+        // sheet crossed itself every frame and the pass-through guard undid 374–436 frames of
+        // C5 seeds 5 and 8). Checked only where the corrected sheet crosses.
+        if !self.out.isometry_reverted && self.proximity.any_crossing(sp) {
+            std::mem::swap(&mut sp.pos, &mut self.pos_before);
+            let crossed_before = self.proximity.any_crossing(sp);
+            std::mem::swap(&mut sp.pos, &mut self.pos_before);
+            self.out.isometry_reverted = !crossed_before;
         }
         if self.out.isometry_reverted {
             sp.pos.copy_from_slice(&self.pos_before);

@@ -52,6 +52,7 @@ pub mod sim;
 pub mod sound_analysis;
 pub mod sound_input;
 pub mod stress;
+pub mod triangle_distance;
 
 pub use collision::VertexContact;
 pub use control::{Command, GestureParam, GrabSlot, Material, SheetSize};

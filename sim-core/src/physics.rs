@@ -40,6 +40,7 @@
 pub mod bending;
 pub mod membrane;
 pub mod newton;
+pub mod sheet_contact;
 pub mod sparse;
 pub mod xpbd;
 
@@ -81,6 +82,9 @@ pub struct SolverConfig {
     pub drag_normal_per_s: f64,
     /// Air drag rate against any motion, 1/s.
     pub drag_per_s: f64,
+    /// Sheet–sheet contact ([`sheet_contact`]): parts of the sheet closer than
+    /// [`sheet_contact::SHEET_CONTACT_DIST_M`] push apart.
+    pub sheet_contact: bool,
 }
 
 impl Default for SolverConfig {
@@ -117,6 +121,7 @@ impl Default for SolverConfig {
             bending_damping_s: 1e-3,
             drag_normal_per_s: 6.0,
             drag_per_s: 0.3,
+            sheet_contact: true,
         }
     }
 }
@@ -143,6 +148,7 @@ impl SolverConfig {
             bending_damping_s: pos(self.bending_damping_s, d.bending_damping_s, 0.0, 1.0),
             drag_normal_per_s: pos(self.drag_normal_per_s, d.drag_normal_per_s, 0.0, 1e3),
             drag_per_s: pos(self.drag_per_s, d.drag_per_s, 0.0, 1e3),
+            sheet_contact: self.sheet_contact,
         }
     }
 }
@@ -224,6 +230,8 @@ pub struct SubstepFrame {
     pub theta: Vec<f64>,
     /// Lagged contact per vertex.
     pub contact: Vec<LaggedContact>,
+    /// Sheet–sheet contact pairs of the substep ([`sheet_contact`]; empty when it is off).
+    pub sheet: sheet_contact::SheetContact,
 }
 
 impl SubstepFrame {
@@ -237,6 +245,7 @@ impl SubstepFrame {
             strain: vec![M2::zeros(); mesh.num_triangles()],
             theta: vec![0.0; mesh.hinges.len()],
             contact: vec![LaggedContact::default(); n],
+            sheet: sheet_contact::SheetContact::new(mesh),
         }
     }
 
@@ -323,6 +332,22 @@ impl Physics {
     ) -> SubstepReport {
         self.substeps_done += 1;
         self.frame.capture(mesh, obstacles);
+        if cfg.sheet_contact {
+            // Reach: both sides of a pair may travel as far as the fastest vertex this
+            // substep (free: its velocity; kinematic: its prescribed move).
+            let travel_m = (0..mesh.num_vertices())
+                .map(|i| {
+                    if kin.fixed[i] {
+                        (kin.target[i] - mesh.pos[i]).norm()
+                    } else {
+                        mesh.vel[i].norm() * h_s
+                    }
+                })
+                .fold(0.0, f64::max);
+            self.frame.sheet.find(mesh, 2.0 * travel_m);
+        } else {
+            self.frame.sheet.clear();
+        }
         let report = match cfg.kind {
             SolverKind::Newton => {
                 self.newton

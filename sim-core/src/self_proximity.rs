@@ -1,8 +1,10 @@
 //! # Self-proximity: how close the sheet comes to itself
 //!
-//! The sim has no sheet–sheet contact yet (a later issue). The seeds had none either and capped
-//! their crumpling before the sheet could pass through itself (T 1245, T 2014, T 2076;
-//! digest-tearing §4.3). A fixed cap on the squeeze does not do that here (measured in
+//! The seeds had no sheet–sheet contact and capped their crumpling before the sheet could pass
+//! through itself (T 1245, T 2014, T 2076; digest-tearing §4.3). Ours
+//! ([`crate::physics::sheet_contact`]) holds layers apart that come within 1.5 mm, but fast
+//! folds can still tunnel through a coarse mesh within a frame, so the squeeze stays capped
+//! where the sheet comes close to itself. A fixed cap on the squeeze does not do that here (measured in
 //! `tests/self_contact.rs`: point hands buckle the sheet into folds that cross within 50–75 ms),
 //! so the gesture rig caps the squeeze where the sheet *actually* comes close to itself: this
 //! module measures that closest approach each frame while the crumple hands squeeze.
@@ -33,18 +35,19 @@
 //! bit-identical runs, the self-contact phase took 0.69–0.80× its former time, measured with
 //! `sim-core/examples/scenario_probe.rs`). The pattern-gap filter answers from the two
 //! triangles' pattern boxes when those are clearly farther apart than the gap, and measures
-//! only the pairs left. Narrow phase: parry3d's GJK distance between the two triangles, in
-//! coordinates relative to the mesh centroid (f32 keeps ~10 nm there, far below the
-//! millimetre thresholds). On a sheet that is nowhere folded over, only near neighbours
+//! only the pairs left. Narrow phase: the exact triangle distance of
+//! [`crate::triangle_distance`] (15 closest-feature pairs, or 0 if an edge crosses; parry3d's
+//! GJK on two triangles in metres reported phantom crossings of layers 7 mm apart, which
+//! stopped squeezes and undid frames for nothing). On a sheet that is nowhere folded over, only near neighbours
 //! survive the broad phase. All buffers are kept between calls: the steady state does not
 //! allocate.
 
-use parry3d::math::{Pose, Vector};
-use parry3d::query::{distance, intersection_test};
-use parry3d::shape::Triangle;
-
 use crate::math::{V2, V3};
 use crate::sheet::physical::PhysMesh;
+use crate::triangle_distance::{triangle_distance_m, triangles_intersect};
+
+/// Box gaps this far beyond the best distance so far still get measured, metres.
+const PRUNE_MARGIN_M: f64 = 1e-12;
 
 /// Reusable buffers of the closest-approach query.
 #[derive(Clone, Debug, Default)]
@@ -97,49 +100,35 @@ impl SelfProximity {
         let min_gap_m = self.min_pattern_gap_m;
         let seed = self.last_pair;
         let filtered = min_gap_m > 0.0;
-        self.sweep(
-            sp,
-            reach_m,
-            seed,
-            filtered,
-            |gap_m, a, b, centre, pattern_boxes| {
-                // The boxes' gap bounds the triangles' distance from below: skip pairs that cannot
-                // beat the closest one found so far (the last query's closest pair, measured
-                // first, usually sets a tight bound at once).
-                if gap_m >= best {
-                    return false;
-                }
-                if filtered && pattern_closer_than(sp, pattern_boxes, a, b, min_gap_m) {
-                    return false;
-                }
-                let (ta, tb) = (
-                    centred_triangle(sp, a as usize, centre),
-                    centred_triangle(sp, b as usize, centre),
-                );
-                let d = distance(&Pose::IDENTITY, &ta, &Pose::IDENTITY, &tb)
-                    .map_or(f64::INFINITY, |d| f64::from(d.distance));
-                if d < best {
-                    best = d;
-                    best_pair = Some((a, b));
-                }
-                false
-            },
-        );
+        self.sweep(sp, reach_m, seed, filtered, |gap_m, a, b, pattern_boxes| {
+            // The boxes' gap bounds the triangles' distance from below: skip pairs that cannot
+            // beat the closest one found so far (the last query's closest pair, measured
+            // first, usually sets a tight bound at once). The margin (1 pm, far above f64
+            // rounding of millimetre distances) keeps a pair whose box touches its closest
+            // points measured, so the minimum is the same whatever pair comes first.
+            if gap_m > best + PRUNE_MARGIN_M {
+                return false;
+            }
+            if filtered && pattern_closer_than(sp, pattern_boxes, a, b, min_gap_m) {
+                return false;
+            }
+            let d = triangle_distance_m(corners(sp, a), corners(sp, b));
+            if d < best {
+                best = d;
+                best_pair = Some((a, b));
+            }
+            false
+        });
         self.last_pair = best_pair;
         if best > reach_m { f64::INFINITY } else { best }
     }
 
-    /// True if two vertex-disjoint triangles of `sp` intersect (parry3d's GJK intersection
-    /// test; a pair touching within f32 rounding may count). Every such pair is tested, however
+    /// True if two vertex-disjoint triangles of `sp` intersect (an edge of one crosses the
+    /// other: [`crate::triangle_distance::triangles_intersect`]). Every such pair is tested, however
     /// close in the pattern. Stops at the first such pair.
     pub fn any_crossing(&mut self, sp: &PhysMesh) -> bool {
-        self.sweep(sp, 0.0, None, false, |_, a, b, centre, _| {
-            let (ta, tb) = (
-                centred_triangle(sp, a as usize, centre),
-                centred_triangle(sp, b as usize, centre),
-            );
-            intersection_test(&Pose::IDENTITY, &ta, &Pose::IDENTITY, &tb)
-                .is_ok_and(|r| r.intersecting)
+        self.sweep(sp, 0.0, None, false, |_, a, b, _| {
+            triangles_intersect(corners(sp, a), corners(sp, b))
         })
     }
 
@@ -157,13 +146,12 @@ impl SelfProximity {
         reach_m: f64,
         seed: Option<(u32, u32)>,
         pattern: bool,
-        mut visit: impl FnMut(f64, u32, u32, V3, &[(V2, V2)]) -> bool,
+        mut visit: impl FnMut(f64, u32, u32, &[(V2, V2)]) -> bool,
     ) -> bool {
         let nt = sp.triangles.len();
         if nt == 0 || sp.pos.is_empty() {
             return false;
         }
-        let centre = sp.pos.iter().sum::<V3>() / sp.pos.len() as f64;
         let reach_m = reach_m.max(0.0);
         self.boxes.clear();
         self.boxes.extend(sp.triangles.iter().map(|t| {
@@ -198,7 +186,7 @@ impl SelfProximity {
         {
             let pos = |t: u32| self.order.iter().position(|&o| o == t);
             let (a, b) = if pos(a) < pos(b) { (a, b) } else { (b, a) };
-            if disjoint(a, b) && visit(box_gap_m(a, b), a, b, centre, pattern_boxes) {
+            if disjoint(a, b) && visit(box_gap_m(a, b), a, b, pattern_boxes) {
                 return true;
             }
         }
@@ -212,7 +200,7 @@ impl SelfProximity {
                 if gap_m > reach_m || !disjoint(a, b) {
                     continue;
                 }
-                if visit(gap_m, a, b, centre, pattern_boxes) {
+                if visit(gap_m, a, b, pattern_boxes) {
                     return true;
                 }
             }
@@ -263,13 +251,10 @@ fn pattern_gap_m(sp: &PhysMesh, ta: [u32; 3], tb: [u32; 3]) -> f64 {
     best
 }
 
-/// Triangle `t` of S_P in f32 coordinates relative to `centre` (parry3d's precision).
-fn centred_triangle(sp: &PhysMesh, t: usize, centre: V3) -> Triangle {
-    let p = sp.triangles[t].map(|v| {
-        let d = sp.pos[v as usize] - centre;
-        Vector::new(d.x as f32, d.y as f32, d.z as f32)
-    });
-    Triangle::new(p[0], p[1], p[2])
+/// The 3D corners of triangle `t`.
+#[inline]
+fn corners(sp: &PhysMesh, t: u32) -> [V3; 3] {
+    sp.triangles[t as usize].map(|v| sp.pos[v as usize])
 }
 
 #[cfg(test)]
@@ -325,16 +310,16 @@ mod tests {
 
     /// Brute force over every vertex-disjoint pair (the reference for the broad phase).
     fn brute_force_m(sp: &PhysMesh) -> f64 {
-        let centre = sp.pos.iter().sum::<V3>() / sp.pos.len() as f64;
-        let tri = |t: usize| centred_triangle(sp, t, centre);
         let mut best = f64::INFINITY;
         for a in 0..sp.triangles.len() {
             for b in a + 1..sp.triangles.len() {
                 if sp.triangles[a].iter().any(|v| sp.triangles[b].contains(v)) {
                     continue;
                 }
-                let d = distance(&Pose::IDENTITY, &tri(a), &Pose::IDENTITY, &tri(b)).unwrap();
-                best = best.min(f64::from(d.distance));
+                best = best.min(triangle_distance_m(
+                    corners(sp, a as u32),
+                    corners(sp, b as u32),
+                ));
             }
         }
         best

@@ -534,8 +534,9 @@ impl Sim {
 
     /// Undoes this frame's motion if it passed the sheet through itself: S_P goes back to
     /// where it was at the start of the frame (which did not cross) and stops, and the squeeze
-    /// backs off. An impact-zone-like fail-safe at frame granularity, not a contact model: no
-    /// contact force, no friction between layers (sheet–sheet contact is a later issue). The
+    /// backs off. An impact-zone-like fail-safe at frame granularity for what sheet–sheet
+    /// contact ([`crate::physics::sheet_contact`]) does not catch: a fold moving through a
+    /// layer faster than the contact skin within one frame. The
     /// whole frame is undone, not only the crossing triangles: moving some vertices back while
     /// their neighbours moved on would strain the sheet by up to the frame's travel over an
     /// edge (measured: strain 0.4–2.4). Returns true if the frame was undone.

@@ -1,5 +1,6 @@
 //! The crumple cap against self-intersection (issue 3, deliverable 10; gesture_rig.rs "Crumple
-//! cap"): the sim has no sheet–sheet contact yet, so the crumple squeeze is capped where the
+//! cap"): sheet–sheet contact cannot catch a fold that snaps through a layer within a frame, so
+//! the crumple squeeze is capped where the
 //! sheet would pass through itself — it slows, stops and backs off as the sheet approaches
 //! itself ([`sim_core::self_proximity`]), and a frame whose motion would still pass it through
 //! itself is undone where it crosses (`Sim::undo_pass_through`). This file checks the claim
@@ -9,7 +10,7 @@
 //!
 //! "Adjacent" = sharing a vertex (such triangles touch by construction). Narrow phase, after an
 //! AABB broad phase: two triangles cross when an edge of one pierces the other (an exact f64
-//! segment–triangle test, independent of the sim's parry3d-based guard); the depth of a
+//! segment–triangle test with a depth, independent of the sim's guard); the depth of a
 //! piercing is how far it is from being undone — the smaller of the edge ends' distances to
 //! the pierced plane and of the piercing point's distance to the pierced triangle's border —
 //! and a pair counts only if that depth exceeds [`CROSS_TOL_M`] (1 µm, 1 % of a paper

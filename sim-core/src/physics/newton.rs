@@ -372,6 +372,9 @@ impl NewtonSolver {
                 damp_b,
             );
         }
+        for pair in ctx.frame.sheet.pairs() {
+            e += pair.energy_of_gap(pair.gap_m(x)).0;
+        }
         e
     }
 
@@ -443,6 +446,12 @@ impl NewtonSolver {
                 self.sys
                     .add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
             }
+        }
+        // Sheet–sheet contact (sheet_contact.rs): diagonal blocks only, the pairs' coupling
+        // is not in the sparsity pattern.
+        for pair in ctx.frame.sheet.pairs() {
+            let sys = &mut self.sys;
+            e += pair.accumulate(x, fixed, &mut self.grad, |v, b| sys.add_diag(v, b));
         }
         if want_energy {
             // Membrane energies were accumulated above; add nothing else.

@@ -26,6 +26,7 @@
 
 use crate::collision::Obstacles;
 use crate::math::{GRAVITY_M_S2, V3, wrap_angle};
+use crate::physics::sheet_contact::SHEET_CONTACT_DIST_M;
 use crate::physics::{Kinematics, PhysParams, SolverConfig, SubstepFrame, SubstepReport, bending};
 use crate::sheet::physical::PhysMesh;
 
@@ -157,6 +158,27 @@ impl XpbdSolver {
                 for (&v, g) in hg.v.iter().zip(&gt) {
                     let v = v as usize;
                     mesh.pos[v] += g * (self.inv_mass[v] * dl);
+                }
+            }
+            // Sheet–sheet contact (sheet_contact.rs): each active pair as an inequality
+            // constraint g ≥ d̂ along its frozen normal.
+            for pair in frame.sheet.pairs() {
+                let c = pair.gap_m(&mesh.pos) - SHEET_CONTACT_DIST_M;
+                if c >= 0.0 {
+                    continue;
+                }
+                let wsum: f64 = pair
+                    .v
+                    .iter()
+                    .zip(&pair.w)
+                    .map(|(&v, &w)| self.inv_mass[v as usize] * w * w)
+                    .sum();
+                if wsum <= 0.0 {
+                    continue;
+                }
+                let dl = -c / wsum;
+                for (&v, &w) in pair.v.iter().zip(&pair.w) {
+                    mesh.pos[v as usize] += pair.n * (self.inv_mass[v as usize] * w * dl);
                 }
             }
             // Contacts with friction.

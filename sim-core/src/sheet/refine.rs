@@ -57,6 +57,7 @@ use crate::physics::bending::dihedral;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::physical::{MeshError, PhysMesh};
 use crate::sheet::topology::NONE;
+use crate::triangle_distance::triangles_intersect;
 
 /// Below this barycentric coordinate of the opposite vertex, a point splits the edge instead of
 /// the triangle.
@@ -168,6 +169,18 @@ fn relax_new_vertex(points: &[V2], pos: &mut [V3], triangles: &[[u32; 3]], n: u3
             .collect()
     };
     let start_normals = normals(pos[ni], pos);
+    // A step must not carry the star through another layer of a fold (a layer 1.4 mm away
+    // was crossed in the full crumple, seed 2): every star triangle against every triangle
+    // sharing no vertex with it (insertions are rare; this runs at most 8 times each).
+    let crosses_another_layer = |x: V3, pos: &[V3]| {
+        star.iter().any(|t| {
+            let ct = t.map(|i| if i == n { x } else { pos[i as usize] });
+            triangles
+                .iter()
+                .filter(|o| !o.iter().any(|v| t.contains(v)))
+                .any(|o| triangles_intersect(ct, o.map(|i| pos[i as usize])))
+        })
+    };
     let err = |x: V3| -> f64 {
         ring.iter()
             .map(|&(xj, l)| ((x - xj).norm() - l).powi(2))
@@ -197,7 +210,12 @@ fn relax_new_vertex(points: &[V2], pos: &mut [V3], triangles: &[[u32; 3]], n: u3
             .iter()
             .zip(&start_normals)
             .all(|(a, b)| a.dot(b) > 0.0);
-        if ey.is_nan() || ey >= e || !keeps_side || !y.iter().all(|c| c.is_finite()) {
+        if ey.is_nan()
+            || ey >= e
+            || !keeps_side
+            || !y.iter().all(|c| c.is_finite())
+            || crosses_another_layer(y, pos)
+        {
             break;
         }
         x = y;

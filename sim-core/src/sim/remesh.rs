@@ -44,9 +44,14 @@ impl Sim {
         let (cap_v, cap_t) = self.mesh_capacity;
         let sp = &self.sheet.sp;
         let room = sp.num_vertices() < cap_v && sp.num_triangles() + 2 <= cap_t;
+        // An insertion that makes the sheet cross itself where it did not (the new vertex's
+        // triangles or a flipped edge through a layer of a fold) is refused: the pass-through
+        // guard would otherwise undo every following frame from a crossed start.
+        let crossed_before = room && self.proximity.any_crossing(sp);
         let inserted = room
             .then(|| refine::insert_vertex_near(sp, p.sampled2).ok())
             .flatten()
+            .filter(|(ins, _)| crossed_before || !self.proximity.any_crossing(&ins.mesh))
             .and_then(|(ins, _)| self.adopt_refined(ins).ok());
         match inserted {
             Some(v) => {

@@ -1,0 +1,511 @@
+//! # Sheet–sheet contact: the paper does not pass through itself
+//!
+//! The seeds have no sheet–sheet contact: they stop crumpling before the sheet could pass
+//! through itself (T 1245, T 2014, T 2076; digest-tearing §4.3). The gesture rig does the same
+//! ([`crate::gesture_rig`] "Crumple cap", [`crate::self_proximity`]), and a frame that would
+//! still cross is undone by the sim's pass-through guard. A cap can only stop a squeeze; it
+//! cannot hold two layers apart that the sheet's own motion brings together (a fold settling,
+//! a layer sliding over another, a held ball pressed on). This module is that force: two parts
+//! of the sheet closer than [`SHEET_CONTACT_DIST_M`] push apart.
+//!
+//! ## Model (impl. choice: penalty on separating planes, frozen per substep)
+//!
+//! At the start of every substep the sheet is searched for **contact pairs**: a vertex and a
+//! triangle it does not belong to, or two edges with no common vertex, closer than a reach
+//! that covers this substep's travel. Each pair is frozen as a stencil of four vertices with
+//! weights w_i and a unit normal n from its closest points (vertex − triangle point, or edge
+//! point − edge point), so that its gap is linear in the positions:
+//!
+//! ```text
+//! g(x) = n · Σ_i w_i x_i          vertex–triangle: w = (1, −β_a, −β_b, −β_c)  (β: barycentric)
+//!                                  edge–edge:       w = (1 − s, s, −(1 − t), −t)
+//! E_pair(x) = ½ k (d̂ − g)²                     if g < d̂
+//! ```
+//!
+//! with d̂ = [`SHEET_CONTACT_DIST_M`] and k = m ω_c² from the pair's mass (½ Σ |w_i| m_i) —
+//! the obstacles' soft contact stiffness ([`crate::collision`]) without their hard stage: a
+//! layer caught between an obstacle and another layer must yield to the obstacle (measured:
+//! with a ×30 hard stage below d̂/2, a held crumpled sheet was pressed 5 mm into a rising
+//! table, `tests/scenarios.rs`). g ≥ d̂ is the
+//! half-space beyond the pair's separating plane, the usual linearization of a distance
+//! constraint over one time step. It is added to the incremental potential of
+//! [`crate::physics`], so the Newton solver's line search treats it like every other term.
+//! Its Hessian w wᵀ ⊗ n nᵀ couples the pair's vertices, which the fixed sparsity pattern of
+//! the Cholesky solve does not hold; only its diagonal blocks k w_i² n nᵀ are assembled
+//! (positive semi-definite, so the Newton direction stays a descent direction; the line search
+//! absorbs the missing coupling). The XPBD solver projects the same pairs as inequality
+//! constraints.
+//!
+//! **Which pairs.** Two parts of the sheet that are close *in the pattern* are close in 3D by
+//! construction (a developable sheet is an isometry of its pattern, which never lengthens a
+//! distance): they are one patch, not two layers. Pairs closer than
+//! [`MIN_PATTERN_GAP_FACTOR`]·d̂ in the pattern are therefore skipped, so a flat sheet — and the
+//! tiny triangles around an inserted vertex — feel no contact at rest. Everything farther apart
+//! in the pattern is a candidate, however the sheet is folded; in particular a sharp fold at
+//! one lattice edge meets the next triangle across the fold and stops short of folding through
+//! it. Pairs whose distance is zero at the start of the substep (already crossed) are left to
+//! the sim's pass-through guard: no normal can tell which side they came from.
+//!
+//! **Approximations, said plainly.** No friction between layers (they slide freely); the
+//! separating planes are fixed within a substep, so a layer moving faster than the reach in
+//! one substep can tunnel (the reach grows with the substep's fastest vertex, up to
+//! [`MAX_REACH_M`]); paper thickness is not modelled, d̂ is a numerical skin.
+//!
+//! **Cost and allocation.** Broad phase: vertices and triangles, and edges among themselves,
+//! sorted along the axis of the sheet's largest extent and swept with boxes grown by the reach;
+//! narrow phase: the exact closest features of [`crate::triangle_distance`]. On a sheet that is nowhere folded over no
+//! pair survives, and a pair that never comes within d̂ adds exactly nothing (the solve is
+//! bit-identical to one without contact). Buffers are sized in [`SheetContact::new`]; pairs
+//! beyond their capacity are dropped (counted), never allocated.
+
+use crate::collision::penalty_stiffness;
+use crate::math::{M3, V3};
+use crate::sheet::physical::PhysMesh;
+use crate::triangle_distance::{point_triangle, segment_segment};
+
+/// Contact distance d̂: two parts of the sheet closer than this push apart, metres.
+pub const SHEET_CONTACT_DIST_M: f64 = 1.5e-3;
+/// Pairs closer than this multiple of d̂ in the pattern are one patch, not two layers.
+pub const MIN_PATTERN_GAP_FACTOR: f64 = 2.0;
+/// Smallest search reach beyond d̂, metres.
+pub const MIN_REACH_M: f64 = 2e-3;
+/// Largest search reach beyond d̂, metres.
+pub const MAX_REACH_M: f64 = 2e-2;
+/// Pairs kept per vertex + edge of the mesh (beyond that they are dropped and counted).
+const PAIRS_PER_ELEMENT: usize = 16;
+/// Pairs closer than this at the start of a substep have crossed already: no normal.
+const CROSSED_M: f64 = 1e-7;
+
+/// One frozen contact pair: gap g = n · Σ w_i x_{v_i}.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SheetPair {
+    /// Stencil vertices (vertex–triangle: the vertex, then the triangle's three; edge–edge:
+    /// the first edge's two, then the second's).
+    pub v: [u32; 4],
+    /// Stencil weights (sum 0: a rigid translation leaves the gap unchanged).
+    pub w: [f64; 4],
+    /// Unit normal of the separating plane, from the second part towards the first.
+    pub n: V3,
+    /// Soft-stage stiffness k, N/m.
+    pub k_n_m: f64,
+}
+
+impl SheetPair {
+    /// Gap at positions `x`, metres.
+    #[inline]
+    pub fn gap_m(&self, x: &[V3]) -> f64 {
+        let mut p = V3::zeros();
+        for (&v, &w) in self.v.iter().zip(&self.w) {
+            p += x[v as usize] * w;
+        }
+        self.n.dot(&p)
+    }
+
+    /// Energy and its derivative along the gap, (E, dE/dg), at gap `g`; also the second
+    /// derivative d²E/dg².
+    #[inline]
+    pub fn energy_of_gap(&self, g: f64) -> (f64, f64, f64) {
+        let pen = SHEET_CONTACT_DIST_M - g;
+        if pen <= 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let k = self.k_n_m;
+        (0.5 * k * pen * pen, -k * pen, k)
+    }
+
+    /// Adds the pair's energy gradient into `grad` and its diagonal Hessian blocks through
+    /// `diag(vertex, block)`, skipping `fixed` vertices; returns the energy (0 if inactive).
+    #[inline]
+    pub fn accumulate(
+        &self,
+        x: &[V3],
+        fixed: &[bool],
+        grad: &mut [V3],
+        mut diag: impl FnMut(u32, &M3),
+    ) -> f64 {
+        let (e, de, d2e) = self.energy_of_gap(self.gap_m(x));
+        if e == 0.0 {
+            return 0.0;
+        }
+        let nn = self.n * self.n.transpose();
+        for (&v, &w) in self.v.iter().zip(&self.w) {
+            if fixed[v as usize] || w == 0.0 {
+                continue;
+            }
+            grad[v as usize] += self.n * (de * w);
+            diag(v, &(nn * (d2e * w * w)));
+        }
+        e
+    }
+}
+
+/// Pair search with reusable buffers.
+#[derive(Clone, Debug, Default)]
+pub struct SheetContact {
+    /// Per triangle: box min and max.
+    tri_boxes: Vec<(V3, V3)>,
+    /// Per edge: box min and max.
+    edge_boxes: Vec<(V3, V3)>,
+    /// Vertex indices sorted along the sweep axis.
+    v_order: Vec<u32>,
+    /// Triangle indices sorted by their box's lower end along the sweep axis.
+    t_order: Vec<u32>,
+    /// Edge indices sorted by their box's lower end along the sweep axis.
+    e_order: Vec<u32>,
+    /// The pairs of the current substep.
+    pairs: Vec<SheetPair>,
+    /// Pairs dropped since creation because the buffer was full.
+    pub dropped: u64,
+}
+
+impl SheetContact {
+    /// Buffers for a mesh (allocates; the search never does).
+    pub fn new(mesh: &PhysMesh) -> Self {
+        let (nv, nt, ne) = (mesh.num_vertices(), mesh.num_triangles(), mesh.num_edges());
+        Self {
+            tri_boxes: Vec::with_capacity(nt),
+            edge_boxes: Vec::with_capacity(ne),
+            v_order: Vec::with_capacity(nv),
+            t_order: Vec::with_capacity(nt),
+            e_order: Vec::with_capacity(ne),
+            pairs: Vec::with_capacity(PAIRS_PER_ELEMENT * (nv + ne)),
+            dropped: 0,
+        }
+    }
+
+    /// The pairs found by the last [`Self::find`].
+    pub fn pairs(&self) -> &[SheetPair] {
+        &self.pairs
+    }
+
+    /// Forgets all pairs (contact off).
+    pub fn clear(&mut self) {
+        self.pairs.clear();
+    }
+
+    /// Finds the contact pairs of `mesh` at its current positions within d̂ + `reach_m`
+    /// (clamped to [`MIN_REACH_M`]–[`MAX_REACH_M`]).
+    pub fn find(&mut self, mesh: &PhysMesh, reach_m: f64) {
+        self.pairs.clear();
+        let x = &mesh.pos;
+        if x.is_empty() || mesh.triangles.is_empty() {
+            return;
+        }
+        let reach_m = if reach_m.is_finite() {
+            reach_m.clamp(MIN_REACH_M, MAX_REACH_M)
+        } else {
+            MAX_REACH_M
+        } + SHEET_CONTACT_DIST_M;
+        let (lo, hi) = x
+            .iter()
+            .fold((x[0], x[0]), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+        let ext = hi - lo;
+        let axis = ext.imax();
+        let min_gap = MIN_PATTERN_GAP_FACTOR * SHEET_CONTACT_DIST_M;
+
+        self.tri_boxes.clear();
+        self.tri_boxes.extend(mesh.triangles.iter().map(|t| {
+            let [a, b, c] = t.map(|v| x[v as usize]);
+            (a.inf(&b).inf(&c), a.sup(&b).sup(&c))
+        }));
+        self.edge_boxes.clear();
+        self.edge_boxes.extend(mesh.topo.edges.iter().map(|e| {
+            let [a, b] = e.v.map(|v| x[v as usize]);
+            (a.inf(&b), a.sup(&b))
+        }));
+        self.v_order.clear();
+        self.v_order.extend(0..x.len() as u32);
+        self.v_order
+            .sort_unstable_by(|&a, &b| x[a as usize][axis].total_cmp(&x[b as usize][axis]));
+        let tri_boxes = &self.tri_boxes;
+        self.t_order.clear();
+        self.t_order.extend(0..tri_boxes.len() as u32);
+        self.t_order.sort_unstable_by(|&a, &b| {
+            tri_boxes[a as usize].0[axis]
+                .total_cmp(&tri_boxes[b as usize].0[axis])
+                .then(a.cmp(&b))
+        });
+        let edge_boxes = &self.edge_boxes;
+        self.e_order.clear();
+        self.e_order.extend(0..edge_boxes.len() as u32);
+        self.e_order.sort_unstable_by(|&a, &b| {
+            edge_boxes[a as usize].0[axis]
+                .total_cmp(&edge_boxes[b as usize].0[axis])
+                .then(a.cmp(&b))
+        });
+        let cap = self.pairs.capacity();
+        let mut dropped = 0u64;
+
+        // Vertex–triangle: a triangle's box starts at most `max_w` before its end.
+        let max_w = tri_boxes
+            .iter()
+            .map(|(l, h)| h[axis] - l[axis])
+            .fold(0.0, f64::max);
+        for &v in &self.v_order {
+            let p = x[v as usize];
+            let from = p[axis] - reach_m - max_w;
+            let start = self
+                .t_order
+                .partition_point(|&t| tri_boxes[t as usize].0[axis] < from);
+            for &t in &self.t_order[start..] {
+                let (l, h) = tri_boxes[t as usize];
+                if l[axis] > p[axis] + reach_m {
+                    break;
+                }
+                if (l - p).max() > reach_m || (p - h).max() > reach_m {
+                    continue;
+                }
+                let tri = mesh.triangles[t as usize];
+                if tri.contains(&v) {
+                    continue;
+                }
+                if let Some(pair) = vertex_triangle(mesh, v, tri, reach_m, min_gap) {
+                    if self.pairs.len() < cap {
+                        self.pairs.push(pair);
+                    } else {
+                        dropped += 1;
+                    }
+                }
+            }
+        }
+
+        // Edge–edge: a forward sweep over the sorted edges.
+        for (i, &a) in self.e_order.iter().enumerate() {
+            let (la, ha) = edge_boxes[a as usize];
+            let ea = mesh.topo.edges[a as usize].v;
+            for &b in &self.e_order[i + 1..] {
+                let (lb, hb) = edge_boxes[b as usize];
+                if lb[axis] > ha[axis] + reach_m {
+                    break;
+                }
+                if (lb - ha).max() > reach_m || (la - hb).max() > reach_m {
+                    continue;
+                }
+                let eb = mesh.topo.edges[b as usize].v;
+                if ea.iter().any(|v| eb.contains(v)) {
+                    continue;
+                }
+                if let Some(pair) = edge_edge(mesh, ea, eb, reach_m, min_gap) {
+                    if self.pairs.len() < cap {
+                        self.pairs.push(pair);
+                    } else {
+                        dropped += 1;
+                    }
+                }
+            }
+        }
+        self.dropped += dropped;
+    }
+}
+
+/// Pattern point of vertex `i` in the plane z = 0.
+#[inline]
+fn pat(mesh: &PhysMesh, i: u32) -> V3 {
+    let p = mesh.pattern[i as usize];
+    V3::new(p.x, p.y, 0.0)
+}
+
+/// Soft-stage stiffness of a stencil: k = m ω_c² with m = ½ Σ |w_i| m_i.
+fn stiffness(mesh: &PhysMesh, v: &[u32; 4], w: &[f64; 4]) -> f64 {
+    let m: f64 = v
+        .iter()
+        .zip(w)
+        .map(|(&i, &wi)| wi.abs() * mesh.mass_kg[i as usize])
+        .sum();
+    penalty_stiffness(0.5 * m)
+}
+
+/// The pair of vertex `v` and triangle `tri` if they are closer than `reach_m` in 3D and at
+/// least `min_gap_m` apart in the pattern.
+fn vertex_triangle(
+    mesh: &PhysMesh,
+    v: u32,
+    tri: [u32; 3],
+    reach_m: f64,
+    min_gap_m: f64,
+) -> Option<SheetPair> {
+    let p = mesh.pos[v as usize];
+    let (d, beta) = point_triangle(p, tri.map(|i| mesh.pos[i as usize]));
+    if d >= reach_m || d < CROSSED_M {
+        return None;
+    }
+    let q: V3 = tri
+        .iter()
+        .zip(&beta)
+        .map(|(&i, &w)| mesh.pos[i as usize] * w)
+        .sum();
+    let n = (p - q) / d;
+    // One patch in the pattern: no contact.
+    let (gap, _) = point_triangle(pat(mesh, v), tri.map(|i| pat(mesh, i)));
+    if gap < min_gap_m {
+        return None;
+    }
+    let vs = [v, tri[0], tri[1], tri[2]];
+    let w = [1.0, -beta[0], -beta[1], -beta[2]];
+    Some(SheetPair {
+        v: vs,
+        w,
+        n,
+        k_n_m: stiffness(mesh, &vs, &w),
+    })
+}
+
+/// The pair of edges `ea` and `eb` (no common vertex) if they are closer than `reach_m` in 3D
+/// and at least `min_gap_m` apart in the pattern.
+fn edge_edge(
+    mesh: &PhysMesh,
+    ea: [u32; 2],
+    eb: [u32; 2],
+    reach_m: f64,
+    min_gap_m: f64,
+) -> Option<SheetPair> {
+    let (d, sa, sb) = segment_segment(
+        ea.map(|i| mesh.pos[i as usize]),
+        eb.map(|i| mesh.pos[i as usize]),
+    );
+    if d >= reach_m || d < CROSSED_M {
+        return None;
+    }
+    let pa = mesh.pos[ea[0] as usize] * sa[0] + mesh.pos[ea[1] as usize] * sa[1];
+    let pb = mesh.pos[eb[0] as usize] * sb[0] + mesh.pos[eb[1] as usize] * sb[1];
+    let n = (pa - pb) / d;
+    // One patch in the pattern: no contact. (Closest points at an end of an edge duplicate a
+    // vertex–triangle pair; keeping both only doubles a stiffness locally.)
+    let (gap, _, _) = segment_segment(ea.map(|i| pat(mesh, i)), eb.map(|i| pat(mesh, i)));
+    if gap < min_gap_m {
+        return None;
+    }
+    let vs = [ea[0], ea[1], eb[0], eb[1]];
+    let w = [sa[0], sa[1], -sb[0], -sb[1]];
+    Some(SheetPair {
+        v: vs,
+        w,
+        n,
+        k_n_m: stiffness(mesh, &vs, &w),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::SheetSize;
+    use crate::math::V2;
+    use crate::sheet::{MeshConfig, Sheet};
+
+    fn sheet() -> Sheet {
+        Sheet::new_flat(SheetSize::A4, MeshConfig::default(), 0.0, 0.08)
+    }
+
+    #[test]
+    fn a_flat_sheet_has_no_active_pairs() {
+        let s = sheet();
+        let mut c = SheetContact::new(&s.sp);
+        c.find(&s.sp, MIN_REACH_M);
+        assert!(c.pairs().is_empty(), "{:?}", c.pairs().first());
+        // A long reach finds neighbours across the lattice, none of them within d̂.
+        c.find(&s.sp, MAX_REACH_M);
+        assert!(!c.pairs().is_empty());
+        assert!(
+            c.pairs()
+                .iter()
+                .all(|p| p.gap_m(&s.sp.pos) > SHEET_CONTACT_DIST_M)
+        );
+    }
+
+    #[test]
+    fn a_sheet_folded_onto_itself_finds_pairs_that_push_apart() {
+        // Fold the sheet about x = 0 onto a layer 1 mm above the other half.
+        let mut s = sheet();
+        for p in &mut s.sp.pos {
+            if p.x < 0.0 {
+                *p = V3::new(-p.x, p.y, 1e-3);
+            }
+        }
+        let mut c = SheetContact::new(&s.sp);
+        c.find(&s.sp, MIN_REACH_M);
+        assert!(!c.pairs().is_empty());
+        let mut grad = vec![V3::zeros(); s.sp.num_vertices()];
+        let fixed = vec![false; s.sp.num_vertices()];
+        let mut e = 0.0;
+        for pair in c.pairs() {
+            assert!((pair.w.iter().sum::<f64>()).abs() < 1e-6);
+            assert!((pair.n.norm() - 1.0).abs() < 1e-9);
+            e += pair.accumulate(&s.sp.pos, &fixed, &mut grad, |_, _| {});
+        }
+        assert!(e > 0.0);
+        // The upper layer is pushed up, the lower one down (−gradient = force).
+        let up: f64 =
+            s.sp.pos
+                .iter()
+                .zip(&grad)
+                .filter(|(p, _)| p.z > 0.5e-3)
+                .map(|(_, g)| -g.z)
+                .sum();
+        let down: f64 =
+            s.sp.pos
+                .iter()
+                .zip(&grad)
+                .filter(|(p, _)| p.z < 0.5e-3 && p.x > 1e-6)
+                .map(|(_, g)| -g.z)
+                .sum();
+        assert!(up > 0.0 && down < 0.0, "up {up} down {down}");
+    }
+
+    #[test]
+    fn gradient_matches_finite_differences() {
+        let mut s = sheet();
+        for p in &mut s.sp.pos {
+            if p.x < 0.0 {
+                *p = V3::new(-p.x + 1e-4, p.y + 2e-4, 0.4e-3);
+            }
+        }
+        let mut c = SheetContact::new(&s.sp);
+        c.find(&s.sp, MIN_REACH_M);
+        let pair = *c
+            .pairs()
+            .iter()
+            .find(|p| p.energy_of_gap(p.gap_m(&s.sp.pos)).0 > 0.0)
+            .expect("an active pair");
+        let n = s.sp.num_vertices();
+        let fixed = vec![false; n];
+        let mut grad = vec![V3::zeros(); n];
+        pair.accumulate(&s.sp.pos, &fixed, &mut grad, |_, _| {});
+        let h = 1e-9;
+        for &v in &pair.v {
+            for k in 0..3 {
+                let mut xp = s.sp.pos.clone();
+                xp[v as usize][k] += h;
+                let mut xm = s.sp.pos.clone();
+                xm[v as usize][k] -= h;
+                let ep = pair.energy_of_gap(pair.gap_m(&xp)).0;
+                let em = pair.energy_of_gap(pair.gap_m(&xm)).0;
+                let fd = (ep - em) / (2.0 * h);
+                let g = grad[v as usize][k];
+                assert!((fd - g).abs() <= 1e-4 * g.abs().max(1e-3), "{fd} vs {g}");
+            }
+        }
+    }
+
+    #[test]
+    fn pairs_close_in_the_pattern_are_one_patch() {
+        // A vertex lying on a triangle it does not belong to, but whose pattern point is
+        // within the gap of that triangle in the pattern too, is no contact.
+        let mut s = sheet();
+        let t = s.sp.triangles[0];
+        // Find a vertex not in t and move its pattern point next to t.
+        let v = (0..s.sp.num_vertices() as u32)
+            .find(|v| !t.contains(v))
+            .unwrap();
+        let centre_p = t.iter().map(|&i| s.sp.pattern[i as usize]).sum::<V2>() / 3.0;
+        let centre = t.iter().map(|&i| s.sp.pos[i as usize]).sum::<V3>() / 3.0;
+        s.sp.pattern[v as usize] = centre_p;
+        s.sp.pos[v as usize] = centre + V3::new(0.0, 0.0, 5e-4);
+        let mut c = SheetContact::new(&s.sp);
+        c.find(&s.sp, MIN_REACH_M);
+        assert!(c.pairs().iter().all(|p| p.v[0] != v || p.v[1..] != t[..]));
+        // Far in the pattern, the same 3D configuration is a contact.
+        s.sp.pattern[v as usize] = centre_p + V2::new(0.05, 0.0);
+        c.find(&s.sp, MIN_REACH_M);
+        assert!(c.pairs().iter().any(|p| p.v[0] == v && p.v[1..] == t[..]));
+    }
+}
