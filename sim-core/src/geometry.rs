@@ -98,7 +98,8 @@
 //! 9. **Isometry** (§3.8, [`isometry`]): Phase I (edge directions, two Lagrange multipliers,
 //!    2×2 solves) and Phase II (positions, least squares, held vertices fixed), then no vertex
 //!    is let deeper into an obstacle than it was; a facet turned by more than 0.3 rad, or
-//!    turned over from its normal at the frame's start, discards the correction, and frames
+//!    turned over from its normal at the frame's start, or a correction that carries the
+//!    sheet through itself (it knows nothing of sheet–sheet contact), discards it, and frames
 //!    with a vertex faster than `IsometryConfig::max_speed_m_s` skip it (measured: in hostile stress runs the
 //!    position-only correction during violent motion let later physics steps turn facets
 //!    over); a still sheet skips it unless an edge is compressed by more than 1 % (isometry.rs
@@ -2473,9 +2474,10 @@ impl GeometryLayer {
         }
         // Nor carry one layer through another: the correction knows nothing of sheet–sheet
         // contact, and layers held 1.5 mm apart by it (physics/sheet_contact.rs) are within a
-        // correction's reach (measured with the crumple cap lowered to 0.5 mm: the corrected
-        // sheet crossed itself every frame and the pass-through guard undid 374–436 frames of
-        // C5 seeds 5 and 8). Checked only where the corrected sheet crosses.
+        // correction's reach. Measured with the crumple cap lowered to 0.5 mm (an experiment,
+        // not the default): the pass-through guard undid 374 frames of C5 seed 8, 51 with this
+        // revert (and 0–2 with the isometry off). Checked only where the corrected sheet
+        // crosses.
         if !self.out.isometry_reverted && self.proximity.any_crossing(sp) {
             std::mem::swap(&mut sp.pos, &mut self.pos_before);
             let crossed_before = self.proximity.any_crossing(sp);

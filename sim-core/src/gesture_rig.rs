@@ -72,8 +72,7 @@
 //! come within 1.5 mm apart, but a fold snapping through a coarse mesh moves ~1 cm in a
 //! frame, faster than a contact skin can catch, so the squeeze must stop before the sheet
 //! passes through itself (measured with the stop lowered to 0.5 mm: C5 squeezed to 0.73–0.97
-//! with 28–41 singular points, but two of eight seeds fell into loops of several hundred
-//! undone frames); the seeds capped their crumpling for the same reason (no
+//! with 28–41 singular points, but seed 5 of eight fell into a loop of 436 undone frames); the seeds capped their crumpling for the same reason (no
 //! self-collision, point handles only: T 1245, T 2014, T 2076) and digest-tearing §4.3 caps
 //! the squeeze at 0.6. Here k = 0.6 bounds the squeeze (the ring of hands at 40 % of the
 //! sheet's size at c = 1), but a fixed bound does not keep the sheet from passing through

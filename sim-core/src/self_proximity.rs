@@ -44,7 +44,7 @@
 
 use crate::math::{V2, V3};
 use crate::sheet::physical::PhysMesh;
-use crate::triangle_distance::{triangle_distance_m, triangles_intersect};
+use crate::triangle_distance::{plane_separation_m, triangle_distance_m, triangles_intersect};
 
 /// Box gaps this far beyond the best distance so far still get measured, metres.
 const PRUNE_MARGIN_M: f64 = 1e-12;
@@ -112,7 +112,13 @@ impl SelfProximity {
             if filtered && pattern_closer_than(sp, pattern_boxes, a, b, min_gap_m) {
                 return false;
             }
-            let d = triangle_distance_m(corners(sp, a), corners(sp, b));
+            let (ca, cb) = (corners(sp, a), corners(sp, b));
+            // All of one triangle on one side of the other's plane, farther than the best so
+            // far: a cheaper lower bound than the box gap.
+            if plane_separation_m(ca, cb) > best + PRUNE_MARGIN_M {
+                return false;
+            }
+            let d = triangle_distance_m(ca, cb);
             if d < best {
                 best = d;
                 best_pair = Some((a, b));
