@@ -274,16 +274,30 @@ fn variants(quick: bool) -> Vec<Variant> {
         )
     };
     v.push(iso_row(" (no isometry)", |i| i.enabled = false));
-    // Singular points at their drawn positions: S_P vertices inserted there (sim-core's
-    // sheet/refine.rs; opt-in, off by default).
+    // The default inserts S_P vertices at singular points (sim-core's sheet/refine.rs); this
+    // row keeps the lattice's connectivity (the nearest vertex moves instead), and the next
+    // one has no sheet–sheet contact.
     v.push(with_geometry(
         variant("newton", SolverConfig::default(), d),
         "geometry",
         GeometryConfig {
-            insert_singular_vertices: true,
+            insert_singular_vertices: false,
             ..g
         },
-        " (vertex insertion at singular points)",
+        " (no vertex insertion)",
+    ));
+    v.push(with_geometry(
+        variant(
+            "newton",
+            SolverConfig {
+                sheet_contact: false,
+                ..SolverConfig::default()
+            },
+            d,
+        ),
+        "geometry",
+        g,
+        " (no sheet–sheet contact)",
     ));
     if !quick {
         // The seeds' schedule (isometry.rs "When it runs"): the step in every frame.
