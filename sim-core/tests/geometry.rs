@@ -102,20 +102,22 @@ fn check_frame(g: &GeometryFrame, sim: &Sim) {
 /// Singular vertices of the full crumple (C5). Digest test 14 asks ≥ 15. How many a squeeze
 /// leaves is chaotic: the seeded crumple jitter, or any change to the step, moves where the
 /// sheet buckles first and how far the squeeze gets before it would pass through itself
-/// (gesture_rig.rs "Crumple cap": it stops at 0.47–0.77 of its range). Measured over seeds
-/// 1–8: 22, 21, 17, 18, 20, 17, 13, 19 (median 19.5); the scene's own seed (5) leaves 20.
-/// Before the stiffer hard contact stage and the yielding hands (collision.rs "Depth limit",
+/// (gesture_rig.rs "Crumple cap": it stops at 0.59–0.82 of its range). Measured over seeds
+/// 1–8, with vertices inserted at singular points (the default since 2026-11-26): 26, 30, 22,
+/// 25, 23, 23, 17, 27 (median 24.5); the scene's own seed (5) leaves 23. Without insertion:
+/// 24, 20, 17, 19, 20, 17, 13, 22; before exact self-contact distances: 22, 21, 17, 18, 20,
+/// 17, 13, 19. Before the stiffer hard contact stage and the yielding hands (collision.rs "Depth limit",
 /// `HandState::advance`) the same seeds left 8, 21, 21, 18, 16, 18, 22, 18: different runs
 /// of the same chaotic squeeze. So the digest's threshold is asserted on the median over
 /// [`FULL_CRUMPLE_SEEDS`], with a floor for every seed.
 const FULL_CRUMPLE_MEDIAN_MIN_SINGULAR: u32 = 15;
-/// Fewest singular vertices any seed of [`FULL_CRUMPLE_SEEDS`] may leave (measured: 13, seed
-/// 7; before: 8, seed 1).
-const FULL_CRUMPLE_MIN_SINGULAR: u32 = 6;
+/// Fewest singular vertices any seed of [`FULL_CRUMPLE_SEEDS`] may leave (measured: 17, seed
+/// 7; without vertex insertion 13, seed 7; earlier 8, seed 1).
+const FULL_CRUMPLE_MIN_SINGULAR: u32 = 12;
 /// Seeds of the C5 statistics.
 const FULL_CRUMPLE_SEEDS: std::ops::RangeInclusive<u32> = 1..=8;
 /// Plastic memory at rest, median over the seeds: fraction of the rest-angle share (measured
-/// over seeds 1–8: 0.56, 0.76, 0.59, 0.52, 0.74, 0.39, 0.39, 0.41; median 0.56; before the
+/// before vertex insertion became the default, over seeds 1–8: 0.56, 0.76, 0.59, 0.52, 0.74, 0.39, 0.39, 0.41; median 0.56; before the
 /// held-ball fixes: 0.52, 0.72, 0.57, 0.57, 0.59, 0.45, 0.63, 0.49).
 const PLASTIC_MIN_FRACTION: f64 = 0.4;
 /// Plastic memory at rest, every seed (measured: 0.39 at the lowest, seeds 6 and 7; 0.45
