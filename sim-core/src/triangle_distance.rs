@@ -178,6 +178,27 @@ mod tests {
         assert!(d < 12e-3, "{d}");
     }
 
+    /// A random vector in the cube [0, s)³.
+    pub(super) fn rand_v3(rng: &mut Pcg32, s: f64) -> V3 {
+        V3::new(
+            rng.random::<f64>(),
+            rng.random::<f64>(),
+            rng.random::<f64>(),
+        ) * s
+    }
+
+    /// Two random triangles of 5 cm, the second shifted by a random offset up to `off_m`.
+    fn random_pair(rng: &mut Pcg32, off_m: f64) -> ([V3; 3], [V3; 3]) {
+        let a = [rand_v3(rng, 0.05), rand_v3(rng, 0.05), rand_v3(rng, 0.05)];
+        let off = rand_v3(rng, off_m);
+        let b = [
+            rand_v3(rng, 0.05) + off,
+            rand_v3(rng, 0.05) + off,
+            rand_v3(rng, 0.05) + off,
+        ];
+        (a, b)
+    }
+
     /// Brute-force distance by sampling both triangles.
     fn sampled_distance(a: [V3; 3], b: [V3; 3], n: usize) -> f64 {
         let pts = |t: [V3; 3]| {
@@ -199,18 +220,9 @@ mod tests {
     #[test]
     fn random_pairs_agree_with_sampling_and_crossing() {
         let mut rng = Pcg32::seed_from_u64(11);
-        let mut r = |s: f64| {
-            V3::new(
-                rng.random::<f64>(),
-                rng.random::<f64>(),
-                rng.random::<f64>(),
-            ) * s
-        };
         let (mut crossing, mut apart) = (0, 0);
         for _ in 0..300 {
-            let a = [r(0.05), r(0.05), r(0.05)];
-            let off = r(0.03);
-            let b = [r(0.05) + off, r(0.05) + off, r(0.05) + off];
+            let (a, b) = random_pair(&mut rng, 0.03);
             let d = triangle_distance_m(a, b);
             let s = sampled_distance(a, b, 40);
             if triangles_intersect(a, b) {
@@ -231,18 +243,9 @@ mod tests {
     #[test]
     fn plane_separation_never_exceeds_the_distance() {
         let mut rng = Pcg32::seed_from_u64(5);
-        let mut r = |s: f64| {
-            V3::new(
-                rng.random::<f64>(),
-                rng.random::<f64>(),
-                rng.random::<f64>(),
-            ) * s
-        };
         let mut positive = 0;
         for _ in 0..500 {
-            let a = [r(0.05), r(0.05), r(0.05)];
-            let off = r(0.06);
-            let b = [r(0.05) + off, r(0.05) + off, r(0.05) + off];
+            let (a, b) = random_pair(&mut rng, 0.06);
             let (lb, d) = (plane_separation_m(a, b), triangle_distance_m(a, b));
             assert!(lb <= d + 1e-12, "{lb} > {d}");
             positive += usize::from(lb > 0.0);
@@ -263,7 +266,7 @@ mod tests {
 #[cfg(test)]
 mod primitives {
     use super::*;
-    use rand::{RngExt, SeedableRng};
+    use rand::SeedableRng;
     use rand_pcg::Pcg32;
 
     /// Point–triangle and segment–segment against dense sampling, at centimetre and at
@@ -273,13 +276,7 @@ mod primitives {
     fn primitives_are_never_farther_than_sampling_at_any_scale() {
         let mut rng = Pcg32::seed_from_u64(3);
         for size in [0.05, 3e-4] {
-            let mut r = |s: f64| {
-                V3::new(
-                    rng.random::<f64>(),
-                    rng.random::<f64>(),
-                    rng.random::<f64>(),
-                ) * s
-            };
+            let mut r = |s: f64| super::tests::rand_v3(&mut rng, s);
             for _ in 0..300 {
                 let t = [r(size), r(size), r(size)];
                 let p = r(1.6 * size);
