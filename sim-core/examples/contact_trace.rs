@@ -49,7 +49,7 @@ fn main() {
         let cross = prox.any_crossing(sp);
         let closest = prox.closest_approach_m(sp, 0.02);
         let (sq, lim) = sim.crumple_squeeze();
-        if active == 0 && out.stats.undo_streak == 0 && !cross {
+        if std::env::var("ALL").is_err() && active == 0 && out.stats.undo_streak == 0 && !cross {
             continue;
         }
         if cross {
@@ -79,12 +79,14 @@ fn main() {
             }
         }
         println!(
-            "f {f} pairs {} active {active} min gap {:.2} mm crossing {cross} closest {:.2} mm squeeze {sq:.3} lim {lim:.3} undo {} verts {}",
+            "f {f} pairs {} active {active} min gap {:.2} mm crossing {cross} closest {:.2} mm squeeze {sq:.3} lim {lim:.3} undo {} verts {} asleep {} vmax {:.4}",
             c.pairs().len(),
             ming * 1e3,
             closest * 1e3,
             out.stats.undo_streak,
-            sp.num_vertices()
+            sp.num_vertices(),
+            sim.is_asleep(),
+            sp.vel.iter().map(|v| v.norm()).fold(0.0, f64::max)
         );
     }
 }

@@ -149,10 +149,12 @@
 //!   undone from that crossed start (C5 seed 2: 461 undone frames); the relaxation now
 //!   refuses such steps and an insertion that makes the sheet cross itself is refused
 //!   (`sim/remesh.rs`). Measured with `sim-core/examples/insert_probe.rs` (C5 seeds 1–8,
-//!   insertion on / off): 26/24, 30/20, 22/17, 25/19, 23/20, 23/17, 17/13, 27/22 singular
-//!   points, 10–15 per run exactly at s̄ (off: 1–5), 13–25 vertices inserted; S4 35/23; no
-//!   undone frame in either mode; c_mean and the largest strain as with insertion off; time
-//!   per frame 1.1–1.5× (the mesh grows). The twist, the double bend and the other scenes
+//!   insertion on / off, crumple stop at 1 mm): 30/29, 38/31, 28/29, 28/25, 32/30, 30/23,
+//!   19/23, 39/30 singular points, 13–20 per run exactly at s̄ (off: 1–6), 13–31 vertices
+//!   inserted; S4 45/31; 0–2 undone frames per run in either mode; c_mean 0.012–0.047 %
+//!   either way and the same largest strain; time per frame 0.8–1.6× (the mesh grows; the
+//!   two modes squeeze to different depths). With the stop at 4 mm (until 2026-11-26):
+//!   26/24, 30/20, 22/17, 25/19, 23/20, 23/17, 17/13, 27/22. The twist, the double bend and the other scenes
 //!   place the same singular points either way.
 //!   When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
 //! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
@@ -174,7 +176,7 @@
 //! | 2 ρ | ρ_bound = 1.2/cm bounds the ruling spacing from below; S_P density is [`crate::sheet::MeshConfig`] (≈ 130–190 triangles) |
 //! | 3 order | Fig. 16 order (analysis → junctions/classification → cones → isometry); classification runs first since it also decides which triangles are analysed |
 //! | 4 t_iso | per-frame budget = Table V: Phase I is capped at `IsometryConfig::phase1_max_iters` (40, stops early), not run to convergence |
-//! | 5 N_s | the target is ≥ 15 for the full crumple: 17–30 per seed over seeds 1–8 (median 24.5; without vertex insertion 13–24), the crumple cap stopping the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
+//! | 5 N_s | the target is ≥ 15 for the full crumple: 19–39 per seed over seeds 1–8 (median 30; without vertex insertion 23–31), the crumple cap stopping the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
 //! | 6 ε_blaschke | RMS distance √(e/N) compared with 0.5 % L_paper |
 //! | 7 λ | c_t = 1 − λ_min |
 //! | 8 fibre damage | interior singular vertices only, sign of the fold at creation, D = 10 applied |

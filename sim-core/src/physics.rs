@@ -315,6 +315,30 @@ impl Physics {
         }
     }
 
+    /// Triangles `a` and `b` crossed in an undone frame: their contact pairs stiffen.
+    pub fn boost_crossing(&mut self, a: [u32; 3], b: [u32; 3]) {
+        self.frame.sheet.boost_crossing(a, b);
+    }
+
+    /// The active contact boosts (saved with the sheet).
+    pub fn contact_boosts(&self) -> &[sheet_contact::Boost] {
+        self.frame.sheet.boosts()
+    }
+
+    /// Restores saved contact boosts.
+    pub fn set_contact_boosts(
+        &mut self,
+        boosts: &[sheet_contact::Boost],
+        num_vertices: usize,
+    ) -> Result<(), String> {
+        self.frame.sheet.set_boosts(boosts, num_vertices)
+    }
+
+    /// One frame passed: contact boosts age.
+    pub fn age_contact_boosts(&mut self) {
+        self.frame.sheet.age_boosts();
+    }
+
     /// Number of sparse factorizations done by the Newton solver.
     pub fn factorizations(&self) -> u64 {
         self.newton.factorizations()

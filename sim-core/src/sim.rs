@@ -539,11 +539,17 @@ impl Sim {
     /// layer faster than the contact skin within one frame. The
     /// whole frame is undone, not only the crossing triangles: moving some vertices back while
     /// their neighbours moved on would strain the sheet by up to the frame's travel over an
-    /// edge (measured: strain 0.4–2.4). Returns true if the frame was undone.
+    /// edge (measured: strain 0.4–2.4). The sheet–sheet contact between the triangles that
+    /// crossed is stiffened first (sheet_contact.rs "Stiffening where the sheet crossed"), so
+    /// the replay does not cross the same way again. Returns true if the frame was undone.
     fn undo_pass_through(&mut self, frame_scale: f64) -> bool {
         if !self.proximity.any_crossing(&self.sheet.sp) {
             return false;
         }
+        let (physics, sp) = (&mut self.physics, &self.sheet.sp);
+        self.proximity.for_each_crossing(sp, |a, b| {
+            physics.boost_crossing(sp.triangles[a as usize], sp.triangles[b as usize]);
+        });
         self.restore_frame_start();
         self.rig.undo_frame_motion();
         self.rig.limit_squeeze(0.0, frame_scale);
@@ -695,6 +701,7 @@ impl Sim {
             recoveries += u32::from(r.recovered);
             self.limit_penetration();
         }
+        self.physics.age_contact_boosts();
         self.sheet.sg.pull_positions(&self.sheet.sp);
         let mut slipped = false;
         if self.rig.num_active_hands() > 0 {
@@ -872,6 +879,7 @@ impl Sim {
             asleep: self.asleep,
             quiet_frames: self.quiet_frames,
             geometry: Some(self.geometry.save()),
+            contact_boosts: self.physics.contact_boosts().to_vec(),
         }
     }
 
@@ -946,6 +954,9 @@ impl Sim {
                 saved.rig_suppressed,
                 saved.rig_ownership_pending,
             )
+            .map_err(RestoreError::Invalid)?;
+        sim.physics
+            .set_contact_boosts(&saved.contact_boosts, sim.sheet.sp.num_vertices())
             .map_err(RestoreError::Invalid)?;
         sim.metrics.reset_normals(&sim.sheet.sp);
         sim.update_contacts();

@@ -4,6 +4,7 @@
 
 use rand::{RngExt, SeedableRng};
 use sim_core::control::{Command, GestureParam, GrabSlot};
+use sim_core::physics::sheet_contact::Boost;
 use sim_core::scenario;
 use sim_core::scenario_run::state_hash;
 use sim_core::script_runner::ScriptRunner;
@@ -127,6 +128,20 @@ fn corrupted_sheets_are_rejected_with_clear_errors() {
         ("obstacle", |s| s.obstacle_offsets_m[1] = f64::NAN),
         ("no triangles", |s| s.triangles.clear()),
         ("frame", |s| s.frame = u64::MAX),
+        ("contact boost vertex", |s| {
+            s.contact_boosts.push(Boost {
+                verts: [0, 1, 2, 3, 4, 1_000_000],
+                factor: 4.0,
+                frames_left: 10,
+            })
+        }),
+        ("contact boost factor", |s| {
+            s.contact_boosts.push(Boost {
+                verts: [0, 1, 2, 3, 4, 5],
+                factor: f64::NAN,
+                frames_left: 10,
+            })
+        }),
     ];
     for (what, mutate) in cases {
         let mut bad = good.clone();
@@ -146,6 +161,14 @@ fn corrupted_sheets_are_rejected_with_clear_errors() {
         Err(RestoreError::BadPosition(3))
     ));
     Sim::restore(cfg, &good).unwrap();
+    // A valid boost is restored as saved.
+    let mut boosted = good.clone();
+    boosted.contact_boosts.push(Boost {
+        verts: [0, 1, 2, 3, 4, 5],
+        factor: 16.0,
+        frames_left: 10,
+    });
+    assert_eq!(Sim::restore(cfg, &boosted).unwrap().save(), boosted);
 }
 
 #[test]

@@ -102,7 +102,10 @@ impl Sim {
         rig.state = self.rig.state.clone();
         let (ownership, suppressed, pending) = self.rig.ownership_state();
         rig.restore_ownership(&ownership, suppressed, pending)?;
-        self.physics = Physics::new(&sheet.sp);
+        // Old vertices keep their index, so the contact boosts stay valid.
+        let mut physics = Physics::new(&sheet.sp);
+        physics.set_contact_boosts(self.physics.contact_boosts(), sheet.sp.num_vertices())?;
+        self.physics = physics;
         self.metrics = MetricsTracker::new(&sheet.sp);
         self.geometry = geometry;
         self.rig = rig;

@@ -82,6 +82,10 @@ pub struct SavedSheet {
     /// The geometry layer's persistent state (version ≥ 3; absent in version 2).
     #[serde(default)]
     pub geometry: Option<crate::geometry::SavedGeometry>,
+    /// Sheet–sheet contact stiffened where the sheet crossed itself in an undone frame
+    /// ([`crate::physics::sheet_contact`]; absent in older saves: none).
+    #[serde(default)]
+    pub contact_boosts: Vec<crate::physics::sheet_contact::Boost>,
 }
 
 /// Why a saved sheet could not be restored.
