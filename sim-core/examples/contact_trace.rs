@@ -2,8 +2,8 @@
 //!
 //! `cargo run --release -p sim-core --example contact_trace -- NAME@SEED on|off FROM TO`
 //! (`on`: vertex insertion at singular points). Prints the frames in FROM..=TO with an active
-//! contact pair, a crossing or an undone frame, and the crossing triangle pairs with their
-//! pattern distance.
+//! contact pair, a crossing or an undone frame (every frame with `ALL=1`), with the sleep
+//! state and the fastest vertex, and the crossing triangle pairs with their pattern distance.
 use sim_core::physics::sheet_contact::{SHEET_CONTACT_DIST_M, SheetContact};
 use sim_core::room::RoomConfig;
 use sim_core::scenario;
