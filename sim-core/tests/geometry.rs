@@ -118,11 +118,14 @@ const FULL_CRUMPLE_MIN_SINGULAR: u32 = 12;
 /// Seeds of the C5 statistics.
 const FULL_CRUMPLE_SEEDS: std::ops::RangeInclusive<u32> = 1..=8;
 /// Plastic memory at rest, median over the seeds: fraction of the rest-angle share (measured
-/// before vertex insertion became the default, over seeds 1–8: 0.56, 0.76, 0.59, 0.52, 0.74, 0.39, 0.39, 0.41; median 0.56; before the
-/// held-ball fixes: 0.52, 0.72, 0.57, 0.57, 0.59, 0.45, 0.63, 0.49).
+/// over seeds 1–8 with vertex insertion and the 1 mm squeeze stop: 0.65, 1.09, 1.27, 1.00,
+/// 0.93, 1.26, 0.75, 1.62, median 1.05; before vertex insertion became the default: 0.56,
+/// 0.76, 0.59, 0.52, 0.74, 0.39, 0.39, 0.41, median 0.56; before the held-ball fixes: 0.52,
+/// 0.72, 0.57, 0.57, 0.59, 0.45, 0.63, 0.49).
 const PLASTIC_MIN_FRACTION: f64 = 0.4;
-/// Plastic memory at rest, every seed (measured: 0.39 at the lowest, seeds 6 and 7; 0.45
-/// before the held-ball fixes; 0.18 for seed 5 before the isometry trigger).
+/// Plastic memory at rest, every seed (measured: 0.65 at the lowest, seed 1; 0.39 before
+/// vertex insertion and the 1 mm stop; 0.45 before the held-ball fixes; 0.18 for seed 5
+/// before the isometry trigger).
 const PLASTIC_FLOOR_FRACTION: f64 = 0.1;
 
 /// Digest §8 test 14 (heavy crumpling) and test 13 (persistence, plastic memory), over the
