@@ -543,13 +543,15 @@ impl Sim {
     /// crossed is stiffened first (sheet_contact.rs "Stiffening where the sheet crossed"), so
     /// the replay does not cross the same way again. Returns true if the frame was undone.
     fn undo_pass_through(&mut self, frame_scale: f64) -> bool {
-        if !self.proximity.any_crossing(&self.sheet.sp) {
-            return false;
-        }
         let (physics, sp) = (&mut self.physics, &self.sheet.sp);
+        let mut crossed = false;
         self.proximity.for_each_crossing(sp, |a, b| {
+            crossed = true;
             physics.boost_crossing(sp.triangles[a as usize], sp.triangles[b as usize]);
         });
+        if !crossed {
+            return false;
+        }
         self.restore_frame_start();
         self.rig.undo_frame_motion();
         self.rig.limit_squeeze(0.0, frame_scale);

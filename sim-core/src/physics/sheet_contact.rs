@@ -518,6 +518,17 @@ mod tests {
         Sheet::new_flat(SheetSize::A4, MeshConfig::default(), 0.0, 0.08)
     }
 
+    /// The sheet folded about x = 0 onto a layer 1 mm above the other half.
+    fn folded_sheet() -> Sheet {
+        let mut s = sheet();
+        for p in &mut s.sp.pos {
+            if p.x < 0.0 {
+                *p = V3::new(-p.x, p.y, 1e-3);
+            }
+        }
+        s
+    }
+
     #[test]
     fn a_flat_sheet_has_no_active_pairs() {
         let s = sheet();
@@ -536,13 +547,7 @@ mod tests {
 
     #[test]
     fn a_sheet_folded_onto_itself_finds_pairs_that_push_apart() {
-        // Fold the sheet about x = 0 onto a layer 1 mm above the other half.
-        let mut s = sheet();
-        for p in &mut s.sp.pos {
-            if p.x < 0.0 {
-                *p = V3::new(-p.x, p.y, 1e-3);
-            }
-        }
+        let s = folded_sheet();
         let mut c = SheetContact::new(&s.sp);
         c.find(&s.sp, MIN_REACH_M);
         assert!(!c.pairs().is_empty());
@@ -579,12 +584,7 @@ mod tests {
     /// comes back), one that stiffens the whole sheet, or one that never ends.
     #[test]
     fn a_crossing_stiffens_its_pairs_until_the_boost_expires() {
-        let mut s = sheet();
-        for p in &mut s.sp.pos {
-            if p.x < 0.0 {
-                *p = V3::new(-p.x, p.y, 1e-3);
-            }
-        }
+        let s = folded_sheet();
         let mut c = SheetContact::new(&s.sp);
         c.find(&s.sp, MIN_REACH_M);
         let base: Vec<SheetPair> = c.pairs().to_vec();
