@@ -408,7 +408,8 @@ impl Engine {
 
     /// Renders one block into `left` and `right` (same length, any length). Allocation-free in
     /// threaded mode; in lockstep mode only a sheet rebuild (reset, size change, restore), a
-    /// step that inserts a vertex for a singular point (`Sim::refinement_pending`) or the
+    /// step that inserts a vertex for a singular point or flips an edge
+    /// (`Sim::refinement_pending`) or the
     /// periodic publish for the saved project allocates, and those are permitted explicitly.
     pub fn render(&mut self, left: &mut [f32], right: &mut [f32]) {
         let n = left.len().min(right.len());
@@ -442,8 +443,9 @@ impl Engine {
                             }
                         }
                         if l.sim.refinement_pending() {
-                            // This step inserts an S_P vertex for a singular point (a new
-                            // mesh): announced by the sim, permitted like a reset.
+                            // This step inserts an S_P vertex for a singular point or
+                            // flips an edge (a new mesh): announced by the sim, permitted
+                            // like a reset.
                             nice_plug::util::permit_alloc(|| {
                                 worker::step_frame(&mut l.sim, &mut l.out, &self.meters)
                             });

@@ -40,6 +40,9 @@ fn main() {
     if std::env::var("INSERT").is_ok_and(|v| v == "0") {
         cfg.geometry.insert_singular_vertices = false;
     }
+    if std::env::var("FLIP").is_ok_and(|v| v == "0") {
+        cfg.geometry.flip_compressed_edges = false;
+    }
     println!("{:?}", cfg.solver);
     for name in scenario::names() {
         if only.as_deref().is_some_and(|o| o != name) {

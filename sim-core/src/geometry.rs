@@ -25,6 +25,26 @@
 //!    (T 740). Junction points are the boundary vertices where a flat and a curved triangle
 //!    meet (P 303–306); the hysteresis keeps them from oscillating (P 792–794, digest test 8),
 //!    and a curved region whose triangles all fall below θ_low becomes flat again (P 794–797).
+//!    **Edge flips** (§3.1, T 811–828, the thesis' `flip_edges` before `treat_compression`):
+//!    an interior S_P edge e1 between two flat triangles with |θ| < θ0 (so in one flat region)
+//!    that is compressed, c_e = (l̄ − l)/l̄ > ε_c, while the other diagonal x1–x2 of its quad
+//!    is not (3D length from the four vertices, rest length from the pattern), is flipped: the
+//!    quad's triangles (u, w, x1), (w, u, x2) become (u, x2, x1), (w, x1, x2). On a lattice
+//!    quad the other diagonal is perpendicular to e1, i.e. across the compression, where the
+//!    sheet buckles (the ruling direction v⊥ of §3.2) and where the lattice has no hinge. The
+//!    most compressed such edge of the frame is flipped by the sim at the start of the next
+//!    step ([`GeometryLayer::take_pending_flip`], [`crate::sheet::refine::flip_edge`]: state
+//!    carried over, masses re-lumped, `sim/remesh.rs`), one per frame, and reported as
+//!    [`ShapeEvent::EdgeFlipped`]. Guards (impl. choice): the edge carries no rest angle or
+//!    damage (a fold keeps its place), no vertex of the quad is held, next to a held vertex
+//!    or singular, both new triangles keep angles ≥ 20° in the pattern (the lattice's flip
+//!    gives 30°–30°–120°), the flip makes no crossing with another layer, and **the quad must
+//!    bend across the other diagonal** (|θ(x1–x2)| ≥ θ_low and larger than |θ(e1)|; Fig. 2.5's
+//!    lifted corner): a quad merely squeezed in its plane, as the whole sheet is at the onset
+//!    of a crumple, keeps its triangles. Measured without that guard
+//!    (`sim-core/examples/flip_probe.rs`): the first frames of C5 seed 7's squeeze flipped
+//!    eight lattice edges into 30°–30°–120° pairs and a later frame strained a triangle by
+//!    46 % (the scenario health limit is 10 %); with it, one flip or none per crumple run.
 //! 3. **Compression analysis** (§3.2): the stretch tensor of every flat triangle
 //!    ([`stretch`]); the most compressed one T_comp with c_t = 1 − λ_min > ε_c starts a pass.
 //!    **Addition (impl. choice):** a *curved* triangle compressed along its own, well-defined
@@ -112,12 +132,13 @@
 //!
 //! ## Simplifications against the seeds (said plainly)
 //!
-//! - **S_P keeps its connectivity, except at singular points.** The seeds regenerate S_P from
+//! - **S_P keeps its connectivity, except at singular points and flipped edges.** The seeds regenerate S_P from
 //!   S_G every frame (coarse flat triangles + Delaunay enrichment, quads with barycentre
 //!   vertices along rulings, §2.2). Here S_G's regions, rulings and cones are computed *on*
 //!   S_P (a region is a set of S_P triangles; a ruling is a traced pattern line), and S_P
 //!   changes only where S_G gains a vertex: a singular point gets an S_P vertex at its drawn
-//!   position (next bullet), inserted with state transfer ([`crate::sheet::refine`]). Strip
+//!   position (next bullet), inserted with state transfer ([`crate::sheet::refine`]), and
+//!   where a compressed flat edge is flipped (step 2). Strip
 //!   cutting marks the strip's triangles curved instead of inserting rulings; cone
 //!   **realignment and boundary resampling** (§3.7 steps 1–7) act on S_G's published rulings
 //!   only ([`realign`]: the physics does not see them). Reasons: the physics solver's sparse
@@ -149,22 +170,23 @@
 //!   undone from that crossed start (C5 seed 2: 461 undone frames); the relaxation now
 //!   refuses such steps and an insertion that makes the sheet cross itself is refused
 //!   (`sim/remesh.rs`). Measured with `sim-core/examples/insert_probe.rs` (C5 seeds 1–8,
-//!   insertion on / off, crumple stop at 1 mm): 30/29, 38/31, 28/29, 28/25, 32/30, 30/23,
-//!   19/23, 39/30 singular points, 13–20 per run exactly at s̄ (off: 1–6), 13–31 vertices
-//!   inserted; S4 45/31; 0–2 undone frames per run in either mode; c_mean 0.012–0.047 %
-//!   either way and the same largest strain; time per frame 0.8–1.6× (the mesh grows; the
-//!   two modes squeeze to different depths). With the stop at 4 mm (until 2026-11-26):
+//!   insertion on / off, crumple stop at 1 mm, edge flips on): 26/22, 26/33, 28/29, 35/22,
+//!   21/26, 30/23, 27/23, 39/30 singular points, 9–23 per run exactly at s̄ (off: 1–6), 17–30
+//!   vertices inserted; S4 23/22; 0–2 undone frames per run in either mode; c_mean
+//!   0.007–0.047 % either way and the same largest strain; time per frame 0.9–1.7× (the mesh
+//!   grows; the two modes squeeze to different depths). Before edge flips: 30/29, 38/31,
+//!   28/29, 28/25, 32/30, 30/23, 19/23, 39/30; S4 45/31. With the stop at 4 mm (until 2026-11-26):
 //!   26/24, 30/20, 22/17, 25/19, 23/20, 23/17, 17/13, 27/22. The twist, the double bend and the other scenes
 //!   place the same singular points either way.
 //!   When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
-//! - **No edge flips** (T 811–828, digest test 2): flips exist to let the coarse S_G
-//!   triangulation of a flat region show a fold across its other diagonal; here flat regions
-//!   are unions of S_P triangles whose own edges carry every fold, so there is no coarse
-//!   triangulation to flip (and S_P's connectivity is kept, above). Nor would S_P gain from
-//!   flips: it is a near-equilateral lattice ([`crate::sheet::pattern::lattice`]) whose edges
-//!   run in three directions 60° apart, and flipping any interior edge turns its two ~60°
-//!   triangles into a 30°–30°–120° pair with a √3-times longer edge, which a mesh-quality
-//!   guard must refuse.
+//! - **Edge flips act on S_P** (step 2 above, digest test 2): the seeds flip edges of the
+//!   coarse S_G triangulation of a flat region so that a fold across its other diagonal can
+//!   be seen (their S_P, resampled from S_G, bends underneath). Here S_G's flat regions are
+//!   S_P triangles, so the flip changes the physical mesh: it gives the sheet a hinge across
+//!   the compression. A lattice flip makes a 30°–30°–120° pair with a √3-times longer edge,
+//!   so flips are guarded (above) and rare: one or none per crumple run, none in the other
+//!   seed scenes. Once an S_P edge folds beyond θ0 the region splits along it as the seeds'
+//!   does after their flip. `GeometryConfig::flip_compressed_edges = false` turns flips off.
 //! - **Curvature analysis on the fine mesh** replaces the seeds' per-region ruling bookkeeping:
 //!   region classification uses the discrete shape operator with the seeds' thresholds.
 //!
@@ -176,7 +198,7 @@
 //! | 2 ρ | ρ_bound = 1.2/cm bounds the ruling spacing from below; S_P density is [`crate::sheet::MeshConfig`] (≈ 130–190 triangles) |
 //! | 3 order | Fig. 16 order (analysis → junctions/classification → cones → isometry); classification runs first since it also decides which triangles are analysed |
 //! | 4 t_iso | per-frame budget = Table V: Phase I is capped at `IsometryConfig::phase1_max_iters` (40, stops early), not run to convergence |
-//! | 5 N_s | the target is ≥ 15 for the full crumple: 19–39 per seed over seeds 1–8 (median 30; without vertex insertion 23–31), the crumple cap stopping the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
+//! | 5 N_s | the target is ≥ 15 for the full crumple: 21–39 per seed over seeds 1–8 (median 27.5; without vertex insertion 22–33), the crumple cap stopping the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
 //! | 6 ε_blaschke | RMS distance √(e/N) compared with 0.5 % L_paper |
 //! | 7 λ | c_t = 1 − λ_min |
 //! | 8 fibre damage | interior singular vertices only, sign of the fold at creation, D = 10 applied |
@@ -189,7 +211,8 @@
 //! ## Allocation and determinism
 //!
 //! Every buffer is sized in [`GeometryLayer::new`] from S_P (whose connectivity changes only
-//! when a vertex is inserted, and then [`GeometryLayer::remeshed`] builds a new layer);
+//! when a vertex is inserted or an edge flipped, and then [`GeometryLayer::remeshed`] builds
+//! a new layer);
 //! `update` only writes into them (sorts are in-place `sort_unstable_by` with index
 //! tie-breaks). The only randomness is the layer's own `Pcg32`, seeded from the sheet's seed
 //! and saved with the sheet.
@@ -285,6 +308,10 @@ pub struct GeometryConfig {
     /// and S_P's connectivity never changes). On by default (see the module doc, "A singular
     /// point gets an S_P vertex at s̄").
     pub insert_singular_vertices: bool,
+    /// Flip a compressed S_P edge inside a flat region whose quad's other diagonal is not
+    /// compressed (the seeds' flip rule, T 826; done by the sim at the start of the next step,
+    /// [`crate::sheet::refine::flip_edge`]). On by default (see the module doc, "Edge flips").
+    pub flip_compressed_edges: bool,
 }
 
 impl Default for GeometryConfig {
@@ -300,6 +327,7 @@ impl Default for GeometryConfig {
             gauss_min_spacing_m: 0.02,
             isometry: IsometryConfig::default(),
             insert_singular_vertices: true,
+            flip_compressed_edges: true,
         }
     }
 }
@@ -508,6 +536,21 @@ pub struct PendingSingular {
     pub frame: u64,
 }
 
+/// A compressed flat-region edge to flip (digest-crumpling §3.1, T 811–828): found by the
+/// layer, flipped by the sim at the start of the next step ([`GeometryLayer::take_pending_flip`],
+/// [`crate::sheet::refine::flip_edge`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PendingFlip {
+    /// The edge's vertices, ascending.
+    pub edge: [u32; 2],
+    /// Its compression c_e = (l̄ − l)/l̄ (> ε_c).
+    pub compression: f64,
+    /// The compression of the quad's other diagonal (≤ ε_c).
+    pub other_compression: f64,
+    /// Frame in which it was found.
+    pub frame: u64,
+}
+
 /// A persistent interior singular vertex (d-cone apex).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SingularPoint {
@@ -585,6 +628,14 @@ pub enum ShapeEvent {
     JunctionsMoved {
         /// Boundary vertices whose junction status changed.
         count: u32,
+    },
+    /// A compressed flat-region edge was flipped (digest-crumpling §3.1): the sheet's
+    /// triangles changed, not its shape.
+    EdgeFlipped {
+        /// The new edge's vertices (the old edge's opposite vertices), ascending.
+        diagonal: [u32; 2],
+        /// Compression of the old edge.
+        compression: f64,
     },
     /// The geometry layer moved a vertex by more than [`JUMP_EVENT_M`].
     VertexJump {
@@ -735,6 +786,10 @@ pub struct SavedGeometry {
     /// compression, dihedral, frame drawn). Absent when none (and in saves from before it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pending_singular: Option<([f64; 2], u32, u8, f64, f64, u64)>,
+    /// An edge waiting to be flipped: (its vertices, compression, other diagonal's
+    /// compression, frame found). Absent when none (and in saves from before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pending_flip: Option<([u32; 2], f64, f64, u64)>,
 }
 
 /// Where a propagation direction ended.
@@ -803,6 +858,8 @@ pub struct GeometryLayer {
     frames_processed: u64,
     /// A singular vertex waiting for its inserted S_P vertex (at most one per frame).
     pending: Option<PendingSingular>,
+    /// An edge waiting to be flipped (at most one per frame).
+    pending_flip: Option<PendingFlip>,
     /// This frame's event list was started before the layer ran ([`Self::start_events_early`]).
     keep_events: bool,
 }
@@ -909,6 +966,7 @@ impl GeometryLayer {
             iso_undriven_compression: 0.0,
             frames_processed: 0,
             pending: None,
+            pending_flip: None,
             keep_events: false,
         };
         let mut count = vec![0u32; nv + 1];
@@ -1029,6 +1087,9 @@ impl GeometryLayer {
                     p.frame,
                 )
             }),
+            pending_flip: self
+                .pending_flip
+                .map(|f| (f.edge, f.compression, f.other_compression, f.frame)),
         }
     }
 
@@ -1090,10 +1151,25 @@ impl GeometryLayer {
                         })
                     }
                 };
+                self.pending_flip = match g.pending_flip {
+                    None => None,
+                    Some(([a, b], c, o, f)) => {
+                        if a >= b || b as usize >= nv || !(c.is_finite() && o.is_finite()) {
+                            return Err("bad pending flip entry".into());
+                        }
+                        Some(PendingFlip {
+                            edge: [a, b],
+                            compression: c,
+                            other_compression: o,
+                            frame: f,
+                        })
+                    }
+                };
             }
             None => {
                 self.iso_undriven_compression = 0.0;
                 self.pending = None;
+                self.pending_flip = None;
                 for &v in &sp.singular {
                     self.push_singular(sp, v, sp.pattern[v as usize], 0, SingularCase::Restored);
                 }
@@ -1152,6 +1228,10 @@ impl GeometryLayer {
             .extend((0..fixed.len() as u32).filter(|&v| fixed[v as usize]));
         self.analyse_shape(sp);
         self.classify();
+        self.mark_near_held(sp, fixed);
+        if self.cfg.flip_compressed_edges {
+            self.find_flip(sp, frame);
+        }
         let flats_before = self.out.num_flat_regions;
         let made = self.treat_compression(sp, sg, fixed, frame);
         if self.cfg.gauss_eps_factor.is_finite() {
@@ -1282,16 +1362,9 @@ impl GeometryLayer {
         }
     }
 
-    /// Steps 3–6: compression analysis, propagation, singular vertices, fibre damage.
-    fn treat_compression(
-        &mut self,
-        sp: &mut PhysMesh,
-        sg: &mut GeomStructure,
-        fixed: &[bool],
-        frame: u64,
-    ) -> u32 {
-        let mut new_singular = 0u32;
-        self.out.max_flat_compression = 0.0;
+    /// Vertices held this frame or next to one: the triangles around them are strained by the
+    /// hands' hard constraints, not by the sheet's shape.
+    fn mark_near_held(&mut self, sp: &PhysMesh, fixed: &[bool]) {
         for (v, n) in self.near_held.iter_mut().enumerate() {
             *n = fixed[v];
         }
@@ -1302,6 +1375,101 @@ impl GeometryLayer {
                 self.near_held[b] = true;
             }
         }
+    }
+
+    /// Step (d), edge flipping in flat regions (digest-crumpling §3.1, T 811–828): among the
+    /// interior edges between two flat triangles that are coplanar (|θ| < θ0, so in one flat
+    /// region), the most compressed one (c_e > ε_c) whose quad's other diagonal is not
+    /// (c ≤ ε_c, its 3D length from the four vertices' positions, its rest length from the
+    /// pattern) becomes this frame's pending flip, if the flip is allowed (no rest angle or
+    /// damage on the edge, no held or singular vertex in the quad, well-shaped new triangles:
+    /// [`crate::sheet::refine::flip_edge`]). The sim flips it at the start of the next step.
+    fn find_flip(&mut self, sp: &PhysMesh, frame: u64) {
+        let topo = &sp.topo;
+        let mut best: Option<PendingFlip> = None;
+        for (ei, e) in topo.edges.iter().enumerate() {
+            if e.is_boundary() || self.out.edge_dihedral_rad[ei].abs() >= THETA0_RAD {
+                continue;
+            }
+            let [h1, h2] = e.he;
+            let (f1, f2) = (
+                topo.half_edges[h1 as usize].face as usize,
+                topo.half_edges[h2 as usize].face as usize,
+            );
+            if self.curved[f1] || self.curved[f2] {
+                continue;
+            }
+            let rest = sp.edge_rest_len_m[ei];
+            let [u, w] = e.v;
+            let c = (rest - (sp.pos[u as usize] - sp.pos[w as usize]).norm()) / rest;
+            if c.is_nan() || c <= self.eps_c || best.is_some_and(|b| b.compression >= c) {
+                continue;
+            }
+            let (x1, x2) = (topo.opposite(h1), topo.opposite(h2));
+            let quad = [u, w, x1, x2];
+            if sp.edge_rest_angle[ei] != 0.0
+                || sp.edge_damage[ei] != 0.0
+                || quad
+                    .iter()
+                    .any(|&v| self.near_held[v as usize] || self.is_singular[v as usize])
+            {
+                continue;
+            }
+            // The quad bends across the other diagonal, not across this edge (Fig. 2.5: the
+            // lifted corner folds the quad along x1–x2): a flat quad merely squeezed in its
+            // plane, as a whole sheet is at the onset of a crumple, keeps its triangles.
+            let th1 = self.out.edge_dihedral_rad[ei].abs();
+            let th2 = dihedral(&[x1, x2, u, w].map(|v| sp.pos[v as usize])).abs();
+            if !(th2 >= THETA_LOW_RAD && th2 > th1 && th2 < std::f64::consts::FRAC_PI_2) {
+                continue;
+            }
+            let rest2 = (sp.pattern[x1 as usize] - sp.pattern[x2 as usize]).norm();
+            let c2 = (rest2 - (sp.pos[x1 as usize] - sp.pos[x2 as usize]).norm()) / rest2;
+            if c2.is_nan()
+                || c2 > self.eps_c
+                || !crate::sheet::refine::flip_is_well_shaped(sp, ei as u32)
+            {
+                continue;
+            }
+            best = Some(PendingFlip {
+                edge: [u.min(w), u.max(w)],
+                compression: c,
+                other_compression: c2,
+                frame,
+            });
+        }
+        self.pending_flip = best;
+    }
+
+    /// The edge found last frame to be flipped, if any (taken: the sim flips it, then calls
+    /// [`Self::edge_flipped`] on the layer rebuilt for the new mesh; an undone frame drops it).
+    pub fn take_pending_flip(&mut self) -> Option<PendingFlip> {
+        self.pending_flip.take()
+    }
+
+    /// The edge waiting to be flipped, if any.
+    pub fn pending_flip(&self) -> Option<&PendingFlip> {
+        self.pending_flip.as_ref()
+    }
+
+    /// Reports the flip of `f`'s edge into `diagonal` as this frame's event.
+    pub fn edge_flipped(&mut self, f: &PendingFlip, diagonal: [u32; 2]) {
+        self.out.push_event(ShapeEvent::EdgeFlipped {
+            diagonal,
+            compression: f.compression,
+        });
+    }
+
+    /// Steps 3–6: compression analysis, propagation, singular vertices, fibre damage.
+    fn treat_compression(
+        &mut self,
+        sp: &mut PhysMesh,
+        sg: &mut GeomStructure,
+        fixed: &[bool],
+        frame: u64,
+    ) -> u32 {
+        let mut new_singular = 0u32;
+        self.out.max_flat_compression = 0.0;
         let cos_along = CONFLICT_RAD.cos();
         self.out.max_curved_compression = 0.0;
         for pass in 0..self.cfg.max_passes {
@@ -1772,8 +1940,10 @@ impl GeometryLayer {
     /// Starts this frame's event list before the layer runs (the sim places a pending singular
     /// vertex at the start of its step): the list is cleared now and kept when the layer runs.
     pub fn start_events_early(&mut self) {
-        self.out.events.clear();
-        self.out.events_dropped = 0;
+        if !self.keep_events {
+            self.out.events.clear();
+            self.out.events_dropped = 0;
+        }
         self.keep_events = true;
     }
 
@@ -2574,6 +2744,114 @@ mod tests {
                 sa(a, b, p) >= 0.0 && sa(b, c, p) >= 0.0 && sa(c, a, p) >= 0.0
             })
             .unwrap()
+    }
+
+    /// Digest §8 test 2 (T 818–826, Fig. 2.5), on the lattice's own quad: two triangles
+    /// (u, w, x1), (w, u, x2) sharing the edge e1 = u–w, positions set by hand (the four
+    /// corners "held"). Squeezing u and w together by 0.3 % and lifting x1 by 0.35 mm bends
+    /// the quad by less than θ0: one flat region, e1 compressed, the other diagonal x1–x2 not,
+    /// so the layer asks for e1 to be flipped. On the flipped mesh, folding the quad along the
+    /// new diagonal by 0.05 rad (≥ θ0) splits it into two flat regions with a crease between.
+    #[test]
+    fn a_compressed_flat_edge_is_flipped_and_the_fold_across_it_splits_the_region() {
+        let s = 0.1;
+        let h = s * 3f64.sqrt() / 2.0;
+        let pattern = crate::sheet::pattern::Pattern {
+            points: vec![
+                V2::new(0.0, 0.0),
+                V2::new(s, 0.0),
+                V2::new(s / 2.0, h),
+                V2::new(s / 2.0, -h),
+            ],
+            triangles: vec![[0, 1, 2], [1, 0, 3]],
+        };
+        let mut sp = PhysMesh::from_pattern(&pattern, 0.0, 0.08).unwrap();
+        let mut sg = GeomStructure::initial(&sp);
+        sp.pos[0].x += 0.0015 * s;
+        sp.pos[1].x -= 0.0015 * s;
+        sp.pos[2].z += 3.5e-4;
+        let mut g = layer(&sp);
+        let fixed = vec![false; 4];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
+        let e1 = sp.topo.find_edge(0, 1).unwrap() as usize;
+        assert!(g.frame().edge_dihedral_rad[e1].abs() < THETA0_RAD);
+        let f = *g.pending_flip().expect("e1 is to be flipped");
+        assert_eq!(f.edge, [0, 1]);
+        assert!((f.compression - 0.003).abs() < 1e-4, "{}", f.compression);
+        assert!(f.other_compression <= 0.0);
+        // The same quad squeezed flat in its plane keeps its edge.
+        let mut flat = PhysMesh::from_pattern(&pattern, 0.0, 0.08).unwrap();
+        flat.pos[0].x += 0.0015 * s;
+        flat.pos[1].x -= 0.0015 * s;
+        let mut gf = layer(&flat);
+        let mut sgf = GeomStructure::initial(&flat);
+        gf.update(&mut flat, &mut sgf, &fixed, &obstacles, 1, true, &[]);
+        assert!(gf.pending_flip().is_none());
+        // The sim's part: flip, carry the layer over.
+        let g_taken = g.take_pending_flip();
+        assert_eq!(g_taken, Some(f));
+        let flip = crate::sheet::refine::flip_edge(&sp, e1 as u32).unwrap();
+        assert_eq!(flip.diagonal, [2, 3]);
+        let mut sp2 = flip.mesh;
+        let mut sg2 = GeomStructure::initial(&sp2);
+        let mut g2 = g
+            .remeshed(
+                &sp2,
+                &mut sg2,
+                &flip.tri_parent,
+                &PaperMaterial::of(crate::control::Material::Printer),
+                1,
+            )
+            .unwrap();
+        g2.edge_flipped(&f, flip.diagonal);
+        assert!(g2.frame().events.iter().any(|e| matches!(
+            e,
+            ShapeEvent::EdgeFlipped {
+                diagonal: [2, 3],
+                ..
+            }
+        )));
+        // Fold about x1–x2: u turns by 0.05 rad about that line, the other three stay.
+        for (i, q) in pattern.points.iter().enumerate() {
+            sp2.pos[i] = V3::new(q.x, q.y, 0.0);
+        }
+        let phi: f64 = 0.05;
+        let r = s / 2.0;
+        sp2.pos[0] = V3::new(s / 2.0 - r * phi.cos(), 0.0, r * phi.sin());
+        g2.update(&mut sp2, &mut sg2, &fixed, &obstacles, 2, true, &[]);
+        let e2 = sp2.topo.find_edge(2, 3).unwrap() as usize;
+        assert!((g2.frame().edge_dihedral_rad[e2].abs() - phi).abs() < 1e-9);
+        let fr = g2.frame();
+        assert_eq!(fr.num_flat_regions, 2, "{:?}", fr.regions);
+        assert_ne!(fr.tri_region[0], fr.tri_region[1]);
+        assert!(g2.pending_flip().is_none(), "nothing is compressed now");
+    }
+
+    /// A pending flip is saved with the sheet; a corrupt one is refused.
+    #[test]
+    fn a_pending_flip_survives_save_and_restore_and_a_corrupt_one_is_refused() {
+        let (sp, mut sg) = sheet();
+        let mut g = layer(&sp);
+        g.pending_flip = Some(PendingFlip {
+            edge: [3, 9],
+            compression: 0.002,
+            other_compression: -0.001,
+            frame: 7,
+        });
+        let saved = g.save();
+        let mut r = layer(&sp);
+        r.restore(&sp, &mut sg, Some(&saved)).unwrap();
+        assert_eq!(r.pending_flip(), g.pending_flip());
+        for bad in [
+            ([9, 3], 0.002, 0.0, 7),
+            ([3, 100_000], 0.002, 0.0, 7),
+            ([3, 9], f64::NAN, 0.0, 7),
+        ] {
+            let mut s2 = saved.clone();
+            s2.pending_flip = Some(bad);
+            assert!(layer(&sp).restore(&sp, &mut sg, Some(&s2)).is_err());
+        }
     }
 
     /// Digest §8 test 3, case {∂S, ∂S} (Fig. 7): a flat sheet compressed along x gives

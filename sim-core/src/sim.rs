@@ -214,6 +214,8 @@ pub struct Sim {
     frames_simulated: u64,
     /// S_P vertices inserted for singular vertices since the sheet was made (sim/remesh.rs).
     inserted_vertices: u64,
+    /// S_P edges flipped (sim/remesh.rs).
+    flipped_edges: u64,
     analysis: SoundAnalysis,
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
@@ -288,6 +290,7 @@ impl Sim {
             mesh_capacity,
             frames_simulated: 0,
             inserted_vertices: 0,
+            flipped_edges: 0,
             analysis,
             proximity: {
                 // Vertices inserted at singular points make pairs of triangles a fraction of an
@@ -414,16 +417,22 @@ impl Sim {
     }
 
     /// True if the next [`Self::step`] starts by inserting an S_P vertex for a singular point
-    /// drawn in the last frame (sim/remesh.rs): that step allocates (a new mesh), every other
-    /// step does not. A host that steps the sheet on its audio thread permits it there.
+    /// drawn in the last frame or by flipping a compressed edge found then (sim/remesh.rs):
+    /// that step allocates (a new mesh), every other step does not. A host that steps the sheet on its audio thread permits it there.
     pub fn refinement_pending(&self) -> bool {
-        self.geometry.pending_singular().is_some()
+        self.geometry.pending_singular().is_some() || self.geometry.pending_flip().is_some()
     }
 
     /// S_P vertices inserted at singular points' drawn positions since this sim was made
     /// (sim/remesh.rs; not saved with the sheet).
     pub fn inserted_vertices(&self) -> u64 {
         self.inserted_vertices
+    }
+
+    /// S_P edges flipped in flat regions since this sim was made (sim/remesh.rs; not saved with
+    /// the sheet).
+    pub fn flipped_edges(&self) -> u64 {
+        self.flipped_edges
     }
 
     /// Frames that ran the physics (not asleep) since creation.
@@ -633,6 +642,9 @@ impl Sim {
         out.sound.time_s = self.time_s();
         // The only step that allocates: a singular vertex drawn last frame gets its own S_P
         // vertex ([`Self::refinement_pending`], sim/remesh.rs).
+        if let Some(f) = self.geometry.take_pending_flip() {
+            self.flip_pending_edge(&f);
+        }
         if let Some(p) = self.geometry.take_pending_singular() {
             self.place_pending_singular(&p);
         }
@@ -735,6 +747,7 @@ impl Sim {
                 // a vertex inserted at the start of the next step (sim/remesh.rs); it is
                 // dropped with the undone frame.
                 self.geometry.take_pending_singular();
+                self.geometry.take_pending_flip();
             } else {
                 self.rig.state.undo_streak = 0;
             }

@@ -276,7 +276,7 @@ fn variants(quick: bool) -> Vec<Variant> {
     v.push(iso_row(" (no isometry)", |i| i.enabled = false));
     // The default inserts S_P vertices at singular points (sim-core's sheet/refine.rs); this
     // row keeps the lattice's connectivity (the nearest vertex moves instead), and the next
-    // one has no sheet–sheet contact.
+    // one flips no edge, and the one after has no sheet–sheet contact.
     v.push(with_geometry(
         variant("newton", SolverConfig::default(), d),
         "geometry",
@@ -285,6 +285,15 @@ fn variants(quick: bool) -> Vec<Variant> {
             ..g
         },
         " (no vertex insertion)",
+    ));
+    v.push(with_geometry(
+        variant("newton", SolverConfig::default(), d),
+        "geometry",
+        GeometryConfig {
+            flip_compressed_edges: false,
+            ..g
+        },
+        " (no edge flips)",
     ));
     v.push(with_geometry(
         variant(

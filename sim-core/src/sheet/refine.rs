@@ -1,4 +1,4 @@
-//! # Vertex insertion into S_P, with state transfer
+//! # Vertex insertion and edge flips in S_P, with state transfer
 //!
 //! The seeds keep every vertex of S_G a vertex of S_P (P 351–354, T 665; digest-crumpling
 //! §1.2 "Invariant"), and a singular vertex is placed at its drawn pattern position s̄ and never
@@ -50,13 +50,25 @@
 //! refined mesh names the old triangle under its pattern centroid ([`Insertion::tri_parent`]),
 //! so per-triangle state (the geometry layer's curved flags) follows.
 //!
-//! Building a mesh allocates; an insertion is an event, like a reset, not a steady-state step.
+//! ## Edge flips
+//!
+//! [`flip_edge`] swaps an interior edge for the other diagonal of its quad (digest-crumpling
+//! §3.1, T 811–828; when, is the geometry layer's flip rule, [`crate::geometry`] step 2). The
+//! vertices and their state are untouched; the two triangles keep their indices and name
+//! their old triangle under the new centroid as parent; rest data, hinges and masses are
+//! rebuilt as for an insertion; every other edge keeps its rest angle and damage. Refused: a
+//! boundary edge, an edge with a rest angle or damage (a fold keeps its place), and a quad
+//! that is not strictly convex in the pattern or whose new triangles would have an angle below
+//! [`FLIP_MIN_ANGLE_RAD`].
+//!
+//! Building a mesh allocates; an insertion or a flip is an event, like a reset, not a
+//! steady-state step.
 
 use crate::math::{V2, V3, barycentric2};
 use crate::physics::bending::dihedral;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::physical::{MeshError, PhysMesh};
-use crate::sheet::topology::NONE;
+use crate::sheet::topology::{Edge, NONE};
 use crate::triangle_distance::triangles_intersect;
 
 /// Below this barycentric coordinate of the opposite vertex, a point splits the edge instead of
@@ -458,6 +470,131 @@ fn split_and_flip(
     })
 }
 
+/// Smallest angle accepted in the two triangles of a flipped edge (the lattice's flip gives
+/// 30°–30°–120° triangles; a flip is only worth making into shapes the physics handles as well).
+pub const FLIP_MIN_ANGLE_RAD: f64 = 20.0 * std::f64::consts::PI / 180.0;
+
+/// Why an edge cannot be flipped.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum FlipError {
+    /// The edge does not exist or lies on the sheet boundary.
+    #[error("edge {0} is not an interior edge of the sheet")]
+    NotInterior(u32),
+    /// A fold or a damaged edge keeps its place (its rest angle and damage belong to it).
+    #[error("edge {0} carries a rest angle or fibre damage")]
+    Creased(u32),
+    /// The quad of the edge's two triangles is not strictly convex in the pattern, or the two
+    /// new triangles would be poorly shaped.
+    #[error("flipping edge {0} would make poorly shaped triangles (smallest angle {1:.1}°)")]
+    PoorShape(u32, f64),
+    /// The new pattern is not a valid mesh.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+}
+
+/// The two triangles of interior edge `e` = (u, w) and the flip's new ones (u, x2, x1),
+/// (w, x1, x2), with the smallest pattern angle among the new ones (0 if one of them is
+/// turned over: the quad is not strictly convex).
+fn flip_quad(sp: &PhysMesh, e: Edge) -> (usize, usize, [[u32; 3]; 2], f64) {
+    let he = |h: u32| sp.topo.half_edges[h as usize];
+    let (h1, h2) = (e.he[0], e.he[1]);
+    let (t1, t2) = (he(h1).face as usize, he(h2).face as usize);
+    let (u, w) = (he(h1).origin, sp.topo.dest(h1));
+    let (x1, x2) = (sp.topo.opposite(h1), sp.topo.opposite(h2));
+    let new_tris = [[u, x2, x1], [w, x1, x2]];
+    let worst = new_tris
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| sp.pattern[i as usize]);
+            if signed_area(a, b, c) <= 0.0 {
+                0.0
+            } else {
+                min_angle(a, b, c)
+            }
+        })
+        .fold(f64::INFINITY, f64::min);
+    (t1, t2, new_tris, worst)
+}
+
+/// True if interior edge `edge` may be flipped into well-shaped triangles (the shape test of
+/// [`flip_edge`], without building anything).
+pub fn flip_is_well_shaped(sp: &PhysMesh, edge: u32) -> bool {
+    sp.topo
+        .edges
+        .get(edge as usize)
+        .is_some_and(|&e| !e.is_boundary() && flip_quad(sp, e).3 >= FLIP_MIN_ANGLE_RAD)
+}
+
+/// A mesh with one edge flipped.
+#[derive(Clone, Debug)]
+pub struct Flip {
+    /// The new S_P (state transferred).
+    pub mesh: PhysMesh,
+    /// The new diagonal's vertices (the old edge's two opposite vertices).
+    pub diagonal: [u32; 2],
+    /// Per triangle of the new mesh, the old triangle under its pattern centroid (the two
+    /// triangles of the flipped quad keep their indices).
+    pub tri_parent: Vec<u32>,
+}
+
+/// Flips interior edge `edge` of `sp`: its two triangles (u, w, x1) and (w, u, x2) become
+/// (u, x2, x1) and (w, x1, x2), the quad's other diagonal x1–x2 replacing u–w (digest-crumpling
+/// §3.1, T 811–828). Vertices, their state and masses' total are unchanged; the masses are
+/// re-lumped over the two new triangles; every other edge keeps its rest angle and damage, the
+/// new diagonal starts flat and undamaged (the old one must be: [`FlipError::Creased`]).
+/// Allocates (a connectivity change, an event like an insertion).
+pub fn flip_edge(sp: &PhysMesh, edge: u32) -> Result<Flip, FlipError> {
+    let Some(&e) = sp.topo.edges.get(edge as usize) else {
+        return Err(FlipError::NotInterior(edge));
+    };
+    if e.is_boundary() {
+        return Err(FlipError::NotInterior(edge));
+    }
+    if sp.edge_rest_angle[edge as usize] != 0.0 || sp.edge_damage[edge as usize] != 0.0 {
+        return Err(FlipError::Creased(edge));
+    }
+    let (t1, t2, new_tris, worst) = flip_quad(sp, e);
+    if worst < FLIP_MIN_ANGLE_RAD {
+        return Err(FlipError::PoorShape(edge, worst.to_degrees()));
+    }
+    let p = |i: u32| sp.pattern[i as usize];
+    let [x1, x2] = [new_tris[0][2], new_tris[0][1]];
+    let mut triangles = sp.triangles.clone();
+    triangles[t1] = new_tris[0];
+    triangles[t2] = new_tris[1];
+    let tri_parent = triangles
+        .iter()
+        .enumerate()
+        .map(|(i, tri)| {
+            if i != t1 && i != t2 {
+                return i as u32;
+            }
+            let c = tri.iter().fold(V2::zeros(), |s, &v| s + p(v)) / 3.0;
+            locate(&sp.pattern, &sp.triangles, c).map_or(i as u32, |(pt, _)| pt as u32)
+        })
+        .collect();
+    let pattern = Pattern {
+        points: sp.pattern.clone(),
+        triangles,
+    };
+    let mut mesh = PhysMesh::from_pattern(&pattern, 0.0, sp.areal_density_kg_m2)?;
+    mesh.pos.clone_from(&sp.pos);
+    mesh.vel.clone_from(&sp.vel);
+    for (ei, ne) in mesh.topo.edges.iter().enumerate() {
+        if let Some(oe) = sp.topo.find_edge(ne.v[0], ne.v[1]) {
+            mesh.edge_rest_angle[ei] = sp.edge_rest_angle[oe as usize];
+            mesh.edge_damage[ei] = sp.edge_damage[oe as usize];
+        }
+    }
+    mesh.singular.clone_from(&sp.singular);
+    mesh.rest_version = sp.rest_version + 1;
+    Ok(Flip {
+        mesh,
+        diagonal: [x1.min(x2), x1.max(x2)],
+        tri_parent,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -659,5 +796,123 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// An interior lattice edge with interior end points, no rest angle and no damage.
+    fn plain_interior_edge(sp: &PhysMesh) -> u32 {
+        (0..sp.num_edges() as u32)
+            .find(|&e| {
+                let ed = sp.topo.edges[e as usize];
+                !ed.is_boundary()
+                    && ed
+                        .v
+                        .iter()
+                        .all(|&v| !sp.topo.vertex_on_boundary[v as usize])
+                    && sp.edge_rest_angle[e as usize] == 0.0
+                    && sp.edge_damage[e as usize] == 0.0
+                    && e > 60
+            })
+            .unwrap()
+    }
+
+    #[test]
+    fn a_flip_swaps_the_diagonal_and_keeps_the_state_mass_and_other_edges() {
+        let sp = sheet();
+        let e = plain_interior_edge(&sp);
+        let [u, w] = sp.topo.edges[e as usize].v;
+        let f = flip_edge(&sp, e).unwrap();
+        let m = &f.mesh;
+        m.topo.validate().unwrap();
+        assert_eq!(m.num_vertices(), sp.num_vertices());
+        assert_eq!(m.num_triangles(), sp.num_triangles());
+        assert!(m.topo.find_edge(u, w).is_none(), "the old diagonal is gone");
+        let [x1, x2] = f.diagonal;
+        let ne = m.topo.find_edge(x1, x2).expect("the new diagonal") as usize;
+        assert_eq!((m.edge_rest_angle[ne], m.edge_damage[ne]), (0.0, 0.0));
+        // The new diagonal joins the two vertices opposite the old one.
+        for x in [x1, x2] {
+            assert!(sp.topo.find_edge(x, u).is_some() && sp.topo.find_edge(x, w).is_some());
+        }
+        // State, area and mass: unchanged (masses re-lumped, total conserved).
+        assert_eq!(m.pos, sp.pos);
+        assert_eq!(m.vel, sp.vel);
+        assert!((total_area(m) - total_area(&sp)).abs() < 1e-15);
+        let mass = |s: &PhysMesh| s.mass_kg.iter().sum::<f64>();
+        assert!((mass(m) - mass(&sp)).abs() < 1e-15);
+        // Every other edge keeps its rest angle and damage (edge 40 carries both).
+        let mut kept = 0;
+        for (oe, ed) in sp.topo.edges.iter().enumerate() {
+            if oe as u32 == e {
+                continue;
+            }
+            let me = m.topo.find_edge(ed.v[0], ed.v[1]).unwrap() as usize;
+            assert_eq!(m.edge_rest_angle[me], sp.edge_rest_angle[oe]);
+            assert_eq!(m.edge_damage[me], sp.edge_damage[oe]);
+            kept += 1;
+        }
+        assert_eq!(kept + 1, sp.num_edges());
+        // Untouched triangles keep their index; the two new ones name a parent of the quad.
+        let quad: Vec<usize> = sp.topo.edges[e as usize]
+            .he
+            .iter()
+            .map(|&h| sp.topo.half_edges[h as usize].face as usize)
+            .collect();
+        for (t, &p) in f.tri_parent.iter().enumerate() {
+            if quad.contains(&t) {
+                assert!(quad.contains(&(p as usize)));
+            } else {
+                assert_eq!(p as usize, t);
+                assert_eq!(m.triangles[t], sp.triangles[t]);
+            }
+        }
+        assert_eq!(m.rest_version, sp.rest_version + 1);
+        // Flipping the new diagonal back gives the original triangles' vertex sets.
+        let back = flip_edge(m, ne as u32).unwrap();
+        assert!(back.mesh.topo.find_edge(u, w).is_some());
+        assert_eq!(back.diagonal, [u.min(w), u.max(w)]);
+    }
+
+    #[test]
+    fn boundary_creased_and_badly_shaped_flips_are_refused() {
+        let sp = sheet();
+        let boundary = (0..sp.num_edges() as u32)
+            .find(|&e| sp.topo.edges[e as usize].is_boundary())
+            .unwrap();
+        assert_eq!(
+            flip_edge(&sp, boundary).unwrap_err(),
+            FlipError::NotInterior(boundary)
+        );
+        let n = sp.num_edges() as u32;
+        assert_eq!(flip_edge(&sp, n).unwrap_err(), FlipError::NotInterior(n));
+        // Edge 40 carries a rest angle and damage (the fixture).
+        assert_eq!(flip_edge(&sp, 40).unwrap_err(), FlipError::Creased(40));
+        // A dart: the quad (0, 1, 2, 3) is not convex at vertex 3, so its diagonal 1–3 (inside)
+        // cannot be swapped for 0–2 (outside).
+        let dart = Pattern {
+            points: vec![
+                V2::new(0.0, 0.0),
+                V2::new(1.0, -1.0),
+                V2::new(0.3, 0.0),
+                V2::new(1.0, 1.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        };
+        let d = PhysMesh::from_pattern(&dart, 0.0, 0.08).unwrap();
+        let e = d.topo.find_edge(0, 2).unwrap();
+        assert!(matches!(flip_edge(&d, e), Err(FlipError::PoorShape(..))));
+        // A square's diagonal flips (two 45°–45°–90° triangles).
+        let square = Pattern {
+            points: vec![
+                V2::new(0.0, 0.0),
+                V2::new(1.0, 0.0),
+                V2::new(1.0, 1.0),
+                V2::new(0.0, 1.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        };
+        let q = PhysMesh::from_pattern(&square, 0.0, 0.08).unwrap();
+        let f = flip_edge(&q, q.topo.find_edge(0, 2).unwrap()).unwrap();
+        assert_eq!(f.diagonal, [1, 3]);
+        assert!(f.mesh.topo.find_edge(0, 2).is_none());
     }
 }

@@ -1,4 +1,4 @@
-//! # Refining S_P for a singular vertex (the sim's side of [`crate::sheet::refine`])
+//! # Refining S_P for a singular vertex, flipping a compressed edge (the sim's side of [`crate::sheet::refine`])
 //!
 //! When the geometry layer draws a singular vertex whose nearest S_P vertex cannot move to the
 //! drawn position s̄ in full, it leaves the point pending ([`GeometryLayer::take_pending_singular`]).
@@ -19,19 +19,26 @@
 //! the mesh at the capacity the snapshots were sized for) — then the nearest vertex moves
 //! towards s̄ as far as its triangles allow, as without insertion.
 //!
-//! Building a mesh allocates: an insertion is an event (a new singular vertex, at most one per
-//! frame), like a reset, not a steady-state step.
+//! A compressed flat-region edge the layer found in the last frame
+//! ([`GeometryLayer::take_pending_flip`], geometry.rs step 2) is flipped the same way, first:
+//! [`refine::flip_edge`], refused if the flip makes the sheet cross itself where it did not,
+//! then the same carry-over (vertex and triangle counts unchanged) and a
+//! [`crate::geometry::ShapeEvent::EdgeFlipped`] event.
+//!
+//! Building a mesh allocates: an insertion or a flip is an event (at most one of each per
+//! frame, announced by [`Sim::refinement_pending`]), like a reset, not a steady-state step.
 
 use super::Sim;
 use crate::collision::VertexContact;
-use crate::geometry::{GeometryLayer, PendingSingular};
+use crate::geometry::{GeometryLayer, PendingFlip, PendingSingular};
 use crate::gesture_rig::GestureRig;
 use crate::math::V3;
 use crate::metrics::MetricsTracker;
 use crate::physics::Physics;
 use crate::sheet::Sheet;
 use crate::sheet::geometric::GeomStructure;
-use crate::sheet::refine::{self, Insertion};
+use crate::sheet::physical::PhysMesh;
+use crate::sheet::refine::{self, Flip, Insertion};
 
 impl Sim {
     /// Makes the pending singular vertex `p`: a new S_P vertex at s̄, else the nearest vertex
@@ -52,7 +59,15 @@ impl Sim {
             .then(|| refine::insert_vertex_near(sp, p.sampled2).ok())
             .flatten()
             .filter(|(ins, _)| crossed_before || !self.proximity.any_crossing(&ins.mesh))
-            .and_then(|(ins, _)| self.adopt_refined(ins).ok());
+            .and_then(|(ins, _)| {
+                let Insertion {
+                    mesh,
+                    vertex,
+                    tri_parent,
+                    ..
+                } = ins;
+                self.adopt_mesh(mesh, &tri_parent).ok().map(|()| vertex)
+            });
         match inserted {
             Some(v) => {
                 self.geometry
@@ -71,15 +86,41 @@ impl Sim {
         self.sheet.sg.pull_positions(&self.sheet.sp);
     }
 
-    /// Replaces S_P by the refined mesh and rebuilds what is sized by it. Nothing changes if an
-    /// error is returned. Returns the new vertex.
-    fn adopt_refined(&mut self, ins: Insertion) -> Result<u32, String> {
-        let Insertion {
+    /// Flips the edge the geometry layer found compressed in a flat region last frame
+    /// ([`GeometryLayer::take_pending_flip`], [`refine::flip_edge`]), if it still exists and
+    /// the flip does not make the sheet cross itself where it did not; reports it as an event.
+    pub(super) fn flip_pending_edge(&mut self, f: &PendingFlip) {
+        let sp = &self.sheet.sp;
+        let Some(edge) = sp.topo.find_edge(f.edge[0], f.edge[1]) else {
+            return;
+        };
+        let Ok(flip) = refine::flip_edge(sp, edge) else {
+            return;
+        };
+        self.geometry.start_events_early();
+        self.asleep = false;
+        self.quiet_frames = 0;
+        // The new diagonal cuts across a quad that is not quite planar: refused if that makes
+        // a crossing with another layer (as an insertion is).
+        if !self.proximity.any_crossing(sp) && self.proximity.any_crossing(&flip.mesh) {
+            return;
+        }
+        let Flip {
             mesh,
-            vertex,
+            diagonal,
             tri_parent,
-            ..
-        } = ins;
+        } = flip;
+        if self.adopt_mesh(mesh, &tri_parent).is_ok() {
+            self.geometry.edge_flipped(f, diagonal);
+            self.flipped_edges += 1;
+            self.sheet.sg.pull_positions(&self.sheet.sp);
+        }
+    }
+
+    /// Replaces S_P by `mesh` (refined or flipped: old vertices keep their index, `tri_parent`
+    /// names each triangle's old triangle) and rebuilds what is sized by it. Nothing changes
+    /// if an error is returned.
+    fn adopt_mesh(&mut self, mesh: PhysMesh, tri_parent: &[u32]) -> Result<(), String> {
         let n = mesh.num_vertices();
         let sg = GeomStructure::initial(&mesh);
         let mut sheet = Sheet {
@@ -94,7 +135,7 @@ impl Sim {
         let geometry: GeometryLayer = self.geometry.remeshed(
             &sheet.sp,
             &mut sheet.sg,
-            &tri_parent,
+            tri_parent,
             &self.material,
             self.cfg.seed,
         )?;
@@ -114,23 +155,26 @@ impl Sim {
         self.kin_target.resize(n, V3::zeros());
         self.forces.resize(n, V3::zeros());
         self.contacts.resize(n, VertexContact::default());
-        Ok(vertex)
+        Ok(())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::ShapeEvent;
     use crate::scenario;
     use crate::scenario_run::state_hash;
     use crate::script_runner::ScriptRunner;
     use crate::sim::{FrameOutput, SimConfig};
 
-    /// Runs the full crumple for `frames` frames.
-    fn crumple(insert: bool, frames: u64) -> (Sim, ScriptRunner) {
+    /// Runs the full crumple for `frames` frames, with or without vertex insertion and edge
+    /// flips.
+    fn crumple(insert: bool, flip: bool, frames: u64) -> (Sim, ScriptRunner) {
         let script = scenario::get("c5_full_crumple").unwrap();
         let mut base = SimConfig::default();
         base.geometry.insert_singular_vertices = insert;
+        base.geometry.flip_compressed_edges = flip;
         let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
         let mut sim = runner.start(base);
         let mut out = FrameOutput::default();
@@ -143,7 +187,7 @@ mod tests {
 
     #[test]
     fn singular_points_get_vertices_of_their_own_at_their_drawn_positions() {
-        let (sim, _) = crumple(true, 300);
+        let (sim, _) = crumple(true, true, 300);
         let sp = &sim.sheet().sp;
         let lattice_nv = Sim::new(SimConfig::default()).sheet().sp.num_vertices();
         let inserted = sp.num_vertices() - lattice_nv;
@@ -180,19 +224,65 @@ mod tests {
     }
 
     #[test]
-    fn without_insertion_the_mesh_keeps_its_connectivity() {
-        let (sim, _) = crumple(false, 300);
+    fn without_insertion_and_flips_the_mesh_keeps_its_connectivity() {
+        let (sim, _) = crumple(false, false, 300);
         let lattice = Sim::new(SimConfig::default());
         assert_eq!(sim.inserted_vertices(), 0);
+        assert_eq!(sim.flipped_edges(), 0);
         assert_eq!(sim.sheet().sp.triangles, lattice.sheet().sp.triangles);
         assert!(!sim.geometry().singular.is_empty());
+    }
+
+    /// The crumple's first squeeze bends a compressed lattice quad across its other diagonal
+    /// (sheet/refine.rs, geometry.rs "Edge flips"): the edge is flipped at the start of the
+    /// next step, announced beforehand (`refinement_pending`), reported as an event; the mesh
+    /// stays valid and keeps its vertex and triangle counts.
+    #[test]
+    fn a_compressed_flat_edge_is_flipped_in_the_crumple() {
+        let script = scenario::get("c5_full_crumple").unwrap();
+        let base = SimConfig::default();
+        let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
+        let mut sim = runner.start(base);
+        let lattice = Sim::new(SimConfig::default());
+        let mut out = FrameOutput::default();
+        let mut flipped = None;
+        for _ in 0..60 {
+            let announced = sim.geometry_layer().pending_flip().copied();
+            assert_eq!(
+                sim.refinement_pending(),
+                announced.is_some() || sim.geometry_layer().pending_singular().is_some()
+            );
+            assert!(runner.drive(&mut sim, &mut out));
+            let ev = sim.geometry().events.iter().find_map(|e| match e {
+                ShapeEvent::EdgeFlipped { diagonal, .. } => Some(*diagonal),
+                _ => None,
+            });
+            if let Some(d) = ev {
+                let f = announced.expect("a flip is announced the frame before");
+                let sp = &sim.sheet().sp;
+                assert!(sp.topo.find_edge(f.edge[0], f.edge[1]).is_none());
+                assert!(sp.topo.find_edge(d[0], d[1]).is_some());
+                flipped = Some(d);
+                break;
+            }
+        }
+        assert!(
+            flipped.is_some(),
+            "no flip in the crumple's first 60 frames"
+        );
+        assert_eq!(sim.flipped_edges(), 1);
+        let sp = &sim.sheet().sp;
+        sp.topo.validate().unwrap();
+        sim.sheet().sg.validate(sp).unwrap();
+        assert_eq!(sp.num_triangles(), lattice.sheet().sp.num_triangles());
+        assert_ne!(sp.triangles, lattice.sheet().sp.triangles);
     }
 
     /// A refined sheet saved and restored continues bit-identically (the insertion rebuilds
     /// what a restore builds).
     #[test]
     fn a_refined_sheet_restores_and_continues_exactly() {
-        let (mut sim, mut runner) = crumple(true, 260);
+        let (mut sim, mut runner) = crumple(true, true, 260);
         assert!(sim.inserted_vertices() > 0);
         let mut restored = Sim::restore(*sim.config(), &sim.save()).unwrap();
         let (mut o1, mut o2) = (FrameOutput::default(), FrameOutput::default());
