@@ -108,6 +108,16 @@ fn quantile(sorted: &[u64], q: f64) -> f64 {
     sorted[i] as f64 * 1e-6
 }
 
+/// `a / b` for a table cell; NaN (printed as such) when `b` is not a positive time, so a
+/// scenario that never woke up shows no made-up ratio.
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 && a.is_finite() && b.is_finite() {
+        a / b
+    } else {
+        f64::NAN
+    }
+}
+
 fn measure(
     variant: &Variant,
     names: &[&'static str],
@@ -666,16 +676,16 @@ fn report(r: &Report<'_>) -> String {
     );
     let _ = writeln!(
         s,
-        "| scenario | S_P triangles | frames (awake) | median ms | p99 ms | c_mean % | n_comp % | singular | physics only: median ms | physics only: c_mean % | physics only: n_comp % | geometry ms: median / p99 | with − without geometry: median ms | self-contact ms (mean) | max strain | Newton it./substep |"
+        "| scenario | S_P triangles | frames (awake) | median ms | p99 ms | c_mean % | n_comp % | singular | physics only: median ms | physics only: c_mean % | physics only: n_comp % | geometry ms: median / p99 | with − without geometry: median ms | with ÷ without geometry: median | self-contact ms (mean) | max strain | Newton it./substep |"
     );
     let _ = writeln!(
         s,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for (x, y) in d.scenarios.iter().zip(&p.scenarios) {
         let _ = writeln!(
             s,
-            "| {} | {:.0} | {} ({}) | {:.3} | {:.3} | {:.4} | {:.2} | {} | {:.3} | {:.4} | {:.2} | {:.3} / {:.3} | {:.3} | {:.3} | {:.3} | {:.2} |",
+            "| {} | {:.0} | {} ({}) | {:.3} | {:.3} | {:.4} | {:.2} | {} | {:.3} | {:.4} | {:.2} | {:.3} / {:.3} | {:.3} | {:.2}× | {:.3} | {:.3} | {:.2} |",
             x.name,
             x.tris,
             x.frames,
@@ -691,6 +701,7 @@ fn report(r: &Report<'_>) -> String {
             x.geometry_median_ms,
             x.geometry_p99_ms,
             x.median_ms - y.median_ms,
+            ratio(x.median_ms, y.median_ms),
             x.self_contact_mean_ms,
             x.strain,
             x.iters
@@ -698,7 +709,7 @@ fn report(r: &Report<'_>) -> String {
     }
     let _ = writeln!(
         s,
-        "| **all** | {:.0} | | **{:.3}** (max {:.3}) | **{:.3}** (max) | **{:.4}** | **{:.2}** | | {:.3} | {:.4} | {:.2} | **{:.3}** (max {:.3}) / {:.3} (max) | {:.3} | {:.3} | {:.3} | |\n",
+        "| **all** | {:.0} | | **{:.3}** (max {:.3}) | **{:.3}** (max) | **{:.4}** | **{:.2}** | | {:.3} | {:.4} | {:.2} | **{:.3}** (max {:.3}) / {:.3} (max) | {:.3} | {:.2}× | {:.3} | {:.3} | |\n",
         d.mean(|x| x.tris),
         d.median_ms(),
         d.max(|x| x.median_ms),
@@ -712,6 +723,7 @@ fn report(r: &Report<'_>) -> String {
         d.max(|x| x.geometry_median_ms),
         d.max(|x| x.geometry_p99_ms),
         d.median_ms() - p.median_ms(),
+        ratio(d.median_ms(), p.median_ms()),
         d.mean(|x| x.self_contact_mean_ms),
         d.max(|x| x.strain)
     );
@@ -723,7 +735,10 @@ fn report(r: &Report<'_>) -> String {
          remeshing 0.2–0.8 ms and isometry 0.9–3.1 ms. The geometry column is the layer's own \
          time; the difference of the two runs' medians beside it is larger, because once the \
          layer acts the two runs play different trajectories (the physics of the run with the \
-         layer works harder: more Newton iterations, a squeeze that goes further).\n"
+         layer works harder: more Newton iterations, a squeeze that goes further). The ratio \
+         column (whole frame ÷ physics only, both medians of this run) is the figure to compare \
+         between runs and hosts: on this shared 2-core machine the same code's milliseconds have \
+         varied 1.3–2.2× from one run to the next.\n"
     );
 
     // Frontier table.
@@ -1307,6 +1322,14 @@ mod tests {
         let t = std::fs::read_to_string(&p).unwrap();
         assert!(t.starts_with("# B\n\nonly others\n") && t.contains("x\n"));
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn ratios_refuse_a_zero_or_missing_time() {
+        assert_eq!(ratio(1.5, 0.5), 3.0);
+        assert!(ratio(1.0, 0.0).is_nan());
+        assert!(ratio(f64::NAN, 1.0).is_nan());
+        assert!(ratio(1.0, f64::INFINITY).is_nan());
     }
 
     #[test]
