@@ -862,6 +862,9 @@ pub struct GeometryLayer {
     pending_flip: Option<PendingFlip>,
     /// This frame's event list was started before the layer ran ([`Self::start_events_early`]).
     keep_events: bool,
+    /// The isometry step's crossing test found S_P's final positions of this frame crossing
+    /// nowhere ([`Self::checked_uncrossed`]).
+    checked_uncrossed: bool,
 }
 
 fn find(uf: &mut [u32], mut x: u32) -> u32 {
@@ -964,6 +967,7 @@ impl GeometryLayer {
             iso: Isometry::new(sp),
             rng: rand_pcg::Pcg32::seed_from_u64(layer_seed(seed)),
             iso_undriven_compression: 0.0,
+            checked_uncrossed: false,
             frames_processed: 0,
             pending: None,
             pending_flip: None,
@@ -1041,12 +1045,22 @@ impl GeometryLayer {
     /// Clears the per-frame event list (a frame in which the layer did not run).
     pub fn idle_frame(&mut self, frame: u64) {
         self.out.frame = frame;
+        self.checked_uncrossed = false;
         if !std::mem::take(&mut self.keep_events) {
             self.out.events.clear();
             self.out.events_dropped = 0;
         }
         self.out.max_vertex_jump_m = 0.0;
         self.out.junction_moves = 0;
+    }
+
+    /// True if this frame's isometry step tested S_P's positions as it left them and found no
+    /// two vertex-disjoint triangles crossing (the test of
+    /// [`crate::self_proximity::SelfProximity::any_crossing`]). The sim's pass-through guard
+    /// then has nothing to find and skips its own sweep of the same positions (`Sim::step`);
+    /// false when the step did not run, was reverted before its test, or left a crossing.
+    pub fn checked_uncrossed(&self) -> bool {
+        self.checked_uncrossed
     }
 
     /// Re-reads the singular points' 3D positions from S_P, after the sim moved S_P once the
@@ -2568,6 +2582,7 @@ impl GeometryLayer {
         start_normals: &[V3],
     ) {
         self.out.max_vertex_jump_m = 0.0;
+        self.checked_uncrossed = false;
         let vmax2 = sp.vel.iter().map(|v| v.norm_squared()).fold(0.0, f64::max);
         let vlim = self.cfg.isometry.max_speed_m_s;
         self.out.isometry_reverted = false;
@@ -2650,11 +2665,17 @@ impl GeometryLayer {
         // not the default): the pass-through guard undid 374 frames of C5 seed 8, 51 with this
         // revert (and 0–2 with the isometry off). Checked only where the corrected sheet
         // crosses.
-        if !self.out.isometry_reverted && self.proximity.any_crossing(sp) {
-            std::mem::swap(&mut sp.pos, &mut self.pos_before);
-            let crossed_before = self.proximity.any_crossing(sp);
-            std::mem::swap(&mut sp.pos, &mut self.pos_before);
-            self.out.isometry_reverted = !crossed_before;
+        if !self.out.isometry_reverted {
+            if self.proximity.any_crossing(sp) {
+                std::mem::swap(&mut sp.pos, &mut self.pos_before);
+                let crossed_before = self.proximity.any_crossing(sp);
+                std::mem::swap(&mut sp.pos, &mut self.pos_before);
+                self.out.isometry_reverted = !crossed_before;
+                // Reverted: the frame keeps the positions just found uncrossed.
+                self.checked_uncrossed = !crossed_before;
+            } else {
+                self.checked_uncrossed = true;
+            }
         }
         if self.out.isometry_reverted {
             sp.pos.copy_from_slice(&self.pos_before);
@@ -3330,12 +3351,35 @@ mod tests {
         rig.place(0.02, 2e-3);
         rig.step(true, &start);
         assert!(rig.layer.frame().isometry_reverted);
+        assert!(
+            !rig.layer.checked_uncrossed(),
+            "reverted before the crossing test"
+        );
         let n = rig.normals();
         assert!(n[t].dot(&start[t]) >= 0.0, "triangle {t} not turned over");
         assert!(
             (n[t] - before[t]).norm() < 1e-12,
             "triangle {t} kept as before the step"
         );
+    }
+
+    /// The isometry step tells the sim when it has already found the final positions
+    /// uncrossed (the pass-through guard then skips its own sweep): after a step that ran its
+    /// crossing test, not after one that did not run or was reverted before the test.
+    #[test]
+    fn isometry_reports_positions_it_found_uncrossed() {
+        let mut rig = IsoRig::new();
+        rig.place(0.02, 2e-3);
+        let n = rig.normals();
+        rig.step(true, &n);
+        assert!(!rig.layer.frame().isometry_reverted);
+        assert!(rig.layer.checked_uncrossed());
+        let crossed = rig.layer.proximity.any_crossing(&rig.sp);
+        assert!(!crossed, "the positions left are uncrossed");
+        // Reverted before the test: `isometry_never_turns_a_triangle_over_from_the_frame_start`.
+        // Idle frame: nothing checked.
+        rig.layer.idle_frame(99);
+        assert!(!rig.layer.checked_uncrossed());
     }
 
     /// The isometry step's trigger (isometry.rs "When it runs"): on a still sheet (no

@@ -58,6 +58,8 @@ pub struct SelfProximity {
     pattern_boxes: Vec<(V2, V2)>,
     /// Triangle indices sorted by their box's lower x.
     order: Vec<u32>,
+    /// The boxes in that order (the sweep's inner loop reads them one after the other).
+    sorted: Vec<(V3, V3)>,
     /// Pairs closer than this in the pattern are one patch, not two layers (0 = none).
     min_pattern_gap_m: f64,
     /// The closest pair of the last query, measured first in the next one (speed only: the
@@ -77,6 +79,7 @@ impl SelfProximity {
             boxes: Vec::with_capacity(triangles),
             pattern_boxes: Vec::with_capacity(triangles),
             order: Vec::with_capacity(triangles),
+            sorted: Vec::with_capacity(triangles),
             min_pattern_gap_m: 0.0,
             last_pair: None,
         }
@@ -187,6 +190,9 @@ impl SelfProximity {
         let pattern_boxes = &self.pattern_boxes;
         self.order
             .sort_unstable_by(|&a, &b| boxes[a as usize].0.x.total_cmp(&boxes[b as usize].0.x));
+        self.sorted.clear();
+        self.sorted
+            .extend(self.order.iter().map(|&t| boxes[t as usize]));
         let box_gap_m = |a: u32, b: u32| {
             let ((la, ha), (lb, hb)) = (boxes[a as usize], boxes[b as usize]);
             (lb - ha).sup(&(la - hb)).sup(&V3::zeros()).norm()
@@ -206,12 +212,23 @@ impl SelfProximity {
                 return true;
             }
         }
+        let sorted = &self.sorted;
         for (i, &a) in self.order.iter().enumerate() {
-            let ha = boxes[a as usize].1;
-            for &b in &self.order[i + 1..] {
-                if boxes[b as usize].0.x > ha.x + reach_m {
+            let (la, ha) = sorted[i];
+            for (j, &(lb, hb)) in sorted.iter().enumerate().skip(i + 1) {
+                if lb.x > ha.x + reach_m {
                     break;
                 }
+                // Boxes apart by more than the reach along y or z are apart by more than the
+                // reach (the gap is at least that component): skipped before the gap's norm.
+                if lb.y - ha.y > reach_m
+                    || la.y - hb.y > reach_m
+                    || lb.z - ha.z > reach_m
+                    || la.z - hb.z > reach_m
+                {
+                    continue;
+                }
+                let b = self.order[j];
                 let gap_m = box_gap_m(a, b);
                 if gap_m > reach_m || !disjoint(a, b) {
                     continue;

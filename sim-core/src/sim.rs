@@ -739,7 +739,9 @@ impl Sim {
         }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
         if guard {
-            if self.undo_pass_through(frame_scale) {
+            // The isometry step may just have swept these very positions for crossings.
+            let checked = self.cfg.geometry.enabled && self.geometry.checked_uncrossed();
+            if !checked && self.undo_pass_through(frame_scale) {
                 self.sheet.sg.pull_positions(&self.sheet.sp);
                 self.geometry.sync_positions(&self.sheet.sp);
                 self.rig.state.undo_streak += 1;

@@ -94,19 +94,36 @@ fn orient(a: V3, b: V3, c: V3, d: V3) -> f64 {
 /// overlapping).
 pub fn segment_crosses_triangle(p: V3, q: V3, t: [V3; 3]) -> bool {
     let [a, b, c] = t;
-    let (dp, dq) = (orient(a, b, c, p), orient(a, b, c, q));
+    crosses_with_sides(p, q, orient(a, b, c, p), orient(a, b, c, q), t)
+}
+
+/// [`segment_crosses_triangle`] with the signed volumes of `p` and `q` about `t`'s plane
+/// (`dp`, `dq`) given.
+#[inline]
+fn crosses_with_sides(p: V3, q: V3, dp: f64, dq: f64, t: [V3; 3]) -> bool {
     if (dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || (dp == 0.0 && dq == 0.0) {
         return false;
     }
+    let [a, b, c] = t;
     // The line pq passes through the triangle iff it turns the same way about its three edges.
     let (s0, s1, s2) = (orient(p, q, a, b), orient(p, q, b, c), orient(p, q, c, a));
     (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0)
 }
 
+/// True if an edge of `q` crosses triangle `t`: [`segment_crosses_triangle`] for the three
+/// edges, with each vertex's side of `t`'s plane computed once (the same signed volumes, so
+/// the same answers) and no edge tested when all three vertices lie strictly on one side.
+fn edges_cross(q: [V3; 3], t: [V3; 3]) -> bool {
+    let d = q.map(|x| orient(t[0], t[1], t[2], x));
+    if (d[0] > 0.0 && d[1] > 0.0 && d[2] > 0.0) || (d[0] < 0.0 && d[1] < 0.0 && d[2] < 0.0) {
+        return false;
+    }
+    (0..3).any(|k| crosses_with_sides(q[k], q[(k + 1) % 3], d[k], d[(k + 1) % 3], t))
+}
+
 /// True if triangles `a` and `b` intersect (an edge of one crosses the other).
 pub fn triangles_intersect(a: [V3; 3], b: [V3; 3]) -> bool {
-    (0..3).any(|k| segment_crosses_triangle(a[k], a[(k + 1) % 3], b))
-        || (0..3).any(|k| segment_crosses_triangle(b[k], b[(k + 1) % 3], a))
+    edges_cross(a, b) || edges_cross(b, a)
 }
 
 /// A lower bound of the distance between triangles `a` and `b`, metres: how far all of one
@@ -260,6 +277,36 @@ mod tests {
         let beside = segment_crosses_triangle(V3::new(0.8, 0.8, -1.0), V3::new(0.8, 0.8, 1.0), t);
         let short = segment_crosses_triangle(V3::new(0.2, 0.2, 0.5), V3::new(0.2, 0.2, 1.0), t);
         assert!(through && !beside && !short);
+    }
+
+    #[test]
+    fn triangles_intersect_answers_as_its_six_edge_tests() {
+        // The shared side tests and the early exit must not change an answer, also for
+        // triangles sharing a vertex, touching at a vertex or lying in one plane.
+        let by_edges = |a: [V3; 3], b: [V3; 3]| {
+            (0..3).any(|k| segment_crosses_triangle(a[k], a[(k + 1) % 3], b))
+                || (0..3).any(|k| segment_crosses_triangle(b[k], b[(k + 1) % 3], a))
+        };
+        let mut rng = Pcg32::seed_from_u64(5);
+        let (mut yes, mut no) = (0, 0);
+        for i in 0..4000 {
+            let (a, mut b) = random_pair(&mut rng, 0.02);
+            match i % 4 {
+                1 => b[0] = a[1],
+                2 => b = b.map(|x| V3::new(x.x, x.y, 0.0)),
+                3 => b[2] = a[0] + (a[1] - a[0]) * 0.5,
+                _ => {}
+            }
+            let a = if i % 4 == 2 {
+                a.map(|x| V3::new(x.x, x.y, 0.0))
+            } else {
+                a
+            };
+            let got = triangles_intersect(a, b);
+            assert_eq!(got, by_edges(a, b), "pair {i}");
+            if got { yes += 1 } else { no += 1 }
+        }
+        assert!(yes > 100 && no > 100, "{yes} crossing, {no} apart");
     }
 }
 
