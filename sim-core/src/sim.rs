@@ -26,7 +26,9 @@
 //!    hysteresis, rulings, cone fitting and the isometry optimizer; its per-frame outputs are
 //!    [`Sim::geometry`];
 //! 5. while squeezing, a frame that passed the sheet through itself is undone
-//!    (`undo_pass_through`);
+//!    (`undo_pass_through`); when the isometry step has just swept the frame's final
+//!    positions for crossings and found none, that sweep is not repeated
+//!    ([`crate::geometry::GeometryLayer::checked_uncrossed`]);
 //! 6. contacts (flag, obstacle, slip speed, normal force) and metrics are updated;
 //! 7. the sound analysis ([`crate::sound_analysis`]) turns the frame's curvature flips, new
 //!    singular vertices and sliding contacts into crumple and friction events with their
