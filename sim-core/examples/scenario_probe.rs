@@ -50,7 +50,7 @@ fn main() {
         }
         let s = run_scenario(name, cfg, true).expect("scenario");
         println!(
-            "{name:30} tris {:4.0} awake {:4}/{:4} med {:6.3} p99 {:6.3} ms geom {:6.3} ms  c_mean {:6.3}% n_comp {:6.2}% strain {:6.3} it/sub {:4.2} flips {} rec {} vmax {:5.2} ke {:.2e} contact {:6.3} ms hash {:016x}",
+            "{name:30} tris {:4.0} awake {:4}/{:4} med {:6.3} p99 {:6.3} ms geom {:6.3} ms  c_mean {:6.3}% n_comp {:6.2}% strain {:6.3} it/sub {:4.2} flips {} rec {} vmax {:5.2} ke {:.2e} contact {:6.3} ms geometry {:016x} hash {:016x}",
             s.triangles_avg,
             s.awake_frames,
             s.frames,
@@ -68,6 +68,7 @@ fn main() {
             s.phase_ns.iter().map(|p| p.self_contact_ns).sum::<u64>() as f64
                 / 1e6
                 / s.awake_frames.max(1) as f64,
+            s.geometry_hash,
             s.final_hash
         );
     }

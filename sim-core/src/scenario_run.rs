@@ -62,6 +62,11 @@ pub struct RunSummary {
     pub max_speed_m_s: f64,
     /// Hash of the final positions and velocities.
     pub final_hash: u64,
+    /// Hash of every frame's published geometry (rulings with their ends, lengths, dihedrals
+    /// and normals; cones; singular points): equal hashes mean the layer's outputs were
+    /// bit-identical in every frame, which [`Self::final_hash`] alone does not show (the
+    /// physics never reads the rulings).
+    pub geometry_hash: u64,
     /// Interior singular vertices at the end (the count never decreases).
     pub singular_final: u32,
     /// Frame of the first singular vertex, if any.
@@ -108,17 +113,58 @@ fn quantile_ms(mut ns: Vec<u64>, q: f64) -> f64 {
     ns[i] as f64 * 1e-6
 }
 
+/// FNV-1a offset basis.
+const FNV_START: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// Folds the bits of `values` into the FNV-1a hash `h`.
+fn fnv(mut h: u64, values: impl IntoIterator<Item = f64>) -> u64 {
+    for c in values {
+        for b in c.to_bits().to_le_bytes() {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}
+
 /// FNV-1a hash of the bits of every position and velocity of a sim.
 pub fn state_hash(sim: &Sim) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let sp = &sim.sheet().sp;
-    for v in sp.pos.iter().chain(&sp.vel) {
-        for c in v.iter() {
-            for b in c.to_bits().to_le_bytes() {
-                h ^= u64::from(b);
-                h = h.wrapping_mul(0x0000_0100_0000_01b3);
-            }
-        }
+    fnv(
+        FNV_START,
+        sp.pos.iter().chain(&sp.vel).flat_map(|v| v.iter().copied()),
+    )
+}
+
+/// Folds one frame's published geometry into `h` (see [`RunSummary::geometry_hash`]).
+pub fn geometry_frame_hash(h: u64, g: &crate::geometry::GeometryFrame) -> u64 {
+    let mut h = fnv(h, [g.rulings.len() as f64, g.cones.len() as f64]);
+    for r in &g.rulings {
+        h = fnv(
+            h,
+            [
+                r.a2.x, r.a2.y, r.b2.x, r.b2.y, r.a3.x, r.a3.y, r.a3.z, r.b3.x, r.b3.y, r.b3.z,
+            ]
+            .into_iter()
+            .chain([
+                r.length_m,
+                r.dihedral_rad,
+                r.curvature_per_m,
+                f64::from(r.region),
+            ])
+            .chain(r.normal.iter().copied()),
+        );
+    }
+    for c in &g.cones {
+        h = fnv(
+            h,
+            [f64::from(c.first_ruling), f64::from(c.last_ruling)]
+                .into_iter()
+                .chain(c.apex2.iter().flat_map(|a| [a.x, a.y])),
+        );
+    }
+    for s in &g.singular {
+        h = fnv(h, [s.pos2.x, s.pos2.y, s.pos3.x, s.pos3.y, s.pos3.z]);
     }
     h
 }
@@ -145,6 +191,7 @@ pub fn run_script(script: &Script, base: SimConfig, timed: bool) -> Result<RunSu
     };
     sim.set_phase_timing(timed);
     let (mut iters, mut substeps) = (0u64, 0u64);
+    let mut geometry_hash = FNV_START;
     while {
         cmds.clear();
         runner.next_frame(&mut cmds)
@@ -178,6 +225,7 @@ pub fn run_script(script: &Script, base: SimConfig, timed: bool) -> Result<RunSu
         iters += u64::from(st.iterations);
         substeps += u64::from(st.substeps);
         let g = sim.geometry();
+        geometry_hash = geometry_frame_hash(geometry_hash, g);
         s.singular_final = st.num_singular;
         if st.num_singular > 0 && s.first_singular_frame.is_none() {
             s.first_singular_frame = Some(s.frames);
@@ -198,6 +246,7 @@ pub fn run_script(script: &Script, base: SimConfig, timed: bool) -> Result<RunSu
         s.iterations_per_substep = iters as f64 / substeps as f64;
     }
     s.final_hash = state_hash(&sim);
+    s.geometry_hash = geometry_hash;
     Ok(s)
 }
 
