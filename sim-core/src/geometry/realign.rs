@@ -192,8 +192,9 @@ impl GeometryLayer {
             if reg.kind == RegionKind::Curved && n > 0 {
                 let w_default = (1.0 / rho).max(self.spacing_m);
                 let rs = &mut self.ruling_next[new_first..];
+                // Each neighbour gap serves the ruling on either side: measured once.
+                let mut before = None;
                 for k in 0..n {
-                    let before = (k > 0).then(|| border_gaps(&rs[k - 1], &rs[k]).1);
                     let after = (k + 1 < n).then(|| border_gaps(&rs[k], &rs[k + 1]).1);
                     let w = match (before, after) {
                         (Some(b), Some(a)) => 0.5 * (a + b),
@@ -201,6 +202,7 @@ impl GeometryLayer {
                         (None, None) => w_default,
                     };
                     rs[k].dihedral_rad = rs[k].curvature_per_m * w;
+                    before = after;
                 }
                 reg.mean_ruling_len_m = rs.iter().map(|r| r.length_m).sum::<f64>() / n as f64;
                 reg.max_abs_dihedral_rad =

@@ -56,9 +56,18 @@ pub fn walk(
             if den.abs() <= 1e-300 {
                 continue;
             }
-            let s = (a - p).perp(&e) / den;
+            // s = num_s / den > 0 needs num_s of den's sign: an edge behind the point is
+            // skipped before either division (the same test, decided by the signs alone).
+            let num_s = (a - p).perp(&e);
+            if num_s == 0.0 || (num_s > 0.0) != (den > 0.0) {
+                continue;
+            }
             let u = (a - p).perp(&d) / den;
-            if s > 1e-12 && (-1e-9..=1.0 + 1e-9).contains(&u) && best.is_none_or(|b| s < b.0) {
+            if !(-1e-9..=1.0 + 1e-9).contains(&u) {
+                continue;
+            }
+            let s = num_s / den;
+            if s > 1e-12 && best.is_none_or(|b| s < b.0) {
                 best = Some((s, k, u.clamp(0.0, 1.0)));
             }
         }
