@@ -145,7 +145,10 @@
 //!   factorization, the allocation-free step, the plugin's preallocated mesh and per-vertex
 //!   contacts all stay valid between singular points (an insertion rebuilds them, an event
 //!   like a reset); and our physics on the lattice already measures c_mean ≈ 0.01–0.03 %,
-//!   well inside the seeds' post-remeshing figures.
+//!   well inside the seeds' post-remeshing figures. Measured since: adopting a changed S_P
+//!   (`Sim::adopt_mesh`: physics with its symbolic factorization, layer, rig) costs 1.2 ms, more
+//!   than the whole frame budget, so a regeneration must be an event, not a per-frame step;
+//!   the plan for strip cutting and regeneration is `docs/sp-regeneration-plan.md`.
 //! - **A singular point gets an S_P vertex at s̄.** s̄ is sampled with the seeds' law and σ
 //!   ([`SingularPoint::sampled2`]) about ē_sing. The eligible S_P vertex nearest to it among
 //!   the two faces of ē_sing (interior, not held, not yet singular) moves there in the
