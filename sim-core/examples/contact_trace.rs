@@ -13,15 +13,9 @@ use sim_core::sim::{FrameOutput, SimConfig};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let (name, seed) = args[0].split_once('@').unwrap();
     let insert = args.get(1).is_some_and(|a| a == "on");
     let (f0, f1): (u64, u64) = (args[2].parse().unwrap(), args[3].parse().unwrap());
-    let mut script = scenario::get(name).unwrap();
-    script.set.retain(|(k, _)| k != "seed");
-    script.set.push((
-        "seed".into(),
-        sim_core::script::ScriptValue::Number(seed.parse().unwrap()),
-    ));
+    let script = scenario::get_seeded(&args[0]).unwrap();
     let mut cfg = SimConfig::default();
     cfg.geometry.insert_singular_vertices = insert;
     let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default()).unwrap();

@@ -24,17 +24,7 @@ fn main() {
     for arg in &names {
         for flip in [false, true] {
             // `NAME@SEED` plays the scene with another seed.
-            let (name, seed) = match arg.split_once('@') {
-                Some((n, s)) => (n, Some(s.parse::<f64>().expect("seed"))),
-                None => (arg.as_str(), None),
-            };
-            let mut script = scenario::get(name).expect("scene");
-            if let Some(seed) = seed {
-                script.set.retain(|(k, _)| k != "seed");
-                script
-                    .set
-                    .push(("seed".into(), sim_core::script::ScriptValue::Number(seed)));
-            }
+            let script = scenario::get_seeded(arg).expect("scene");
             let mut cfg = SimConfig::default();
             cfg.geometry.flip_compressed_edges = flip;
             let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).unwrap();

@@ -27,17 +27,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for arg in &names {
         // `NAME@SEED` plays the scene with another seed.
-        let (name, seed) = match arg.split_once('@') {
-            Some((n, s)) => (n, Some(s.parse::<f64>().expect("seed"))),
-            None => (arg.as_str(), None),
-        };
-        let mut script = scenario::get(name).expect("scenario");
-        if let Some(seed) = seed {
-            script.set.retain(|(k, _)| k != "seed");
-            script
-                .set
-                .push(("seed".into(), sim_core::script::ScriptValue::Number(seed)));
-        }
+        let script = scenario::get_seeded(arg).expect("scenario");
         let name = arg;
         for insert in [false, true] {
             let mut cfg = SimConfig::default();

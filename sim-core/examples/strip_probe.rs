@@ -6,7 +6,6 @@
 //! seed scenario).
 use sim_core::geometry::ShapeEvent;
 use sim_core::scenario;
-use sim_core::script::ScriptValue;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, SimConfig};
 
@@ -23,15 +22,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|");
     for arg in names {
         // `NAME@SEED` plays the scene with another seed.
-        let (name, seed) = match arg.split_once('@') {
-            Some((n, s)) => (n, Some(s.parse::<f64>().expect("seed"))),
-            None => (arg.as_str(), None),
-        };
-        let mut script = scenario::get(name).expect("scene");
-        if let Some(seed) = seed {
-            script.set.retain(|(k, _)| k != "seed");
-            script.set.push(("seed".into(), ScriptValue::Number(seed)));
-        }
+        let script = scenario::get_seeded(&arg).expect("scene");
         let base = SimConfig::default();
         let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).expect("script");
         let mut sim = runner.start(base);

@@ -56,6 +56,9 @@ pub enum ScenarioError {
     /// The embedded file does not parse (a build defect, caught by the tests).
     #[error("scenario {0}: {1}")]
     Parse(String, ScriptError),
+    /// The seed after `@` is not a number.
+    #[error("scenario {0}: seed {1:?} is not a number")]
+    Seed(String, String),
 }
 
 /// Names of all scenarios, in library order.
@@ -74,6 +77,25 @@ pub fn get(name: &str) -> Result<Script, ScenarioError> {
     Script::parse(t).map_err(|e| ScenarioError::Parse(name.to_string(), e))
 }
 
+/// The parsed script of `NAME` or `NAME@SEED`: with a seed, the script's own `seed` setting is
+/// replaced (the probes replay one scene with several seeds).
+pub fn get_seeded(arg: &str) -> Result<Script, ScenarioError> {
+    let Some((name, seed)) = arg.split_once('@') else {
+        return get(arg);
+    };
+    let seed = seed
+        .parse::<f64>()
+        .ok()
+        .filter(|s| s.is_finite())
+        .ok_or_else(|| ScenarioError::Seed(name.to_string(), seed.to_string()))?;
+    let mut script = get(name)?;
+    script.set.retain(|(k, _)| k != "seed");
+    script
+        .set
+        .push(("seed".into(), crate::script::ScriptValue::Number(seed)));
+    Ok(script)
+}
+
 /// The first comment line of a scenario file (its title), without the `# `.
 pub fn title(name: &str) -> Option<&'static str> {
     text(name)?.lines().next()?.strip_prefix("# ")
@@ -83,6 +105,26 @@ pub fn title(name: &str) -> Option<&'static str> {
 mod tests {
     use super::*;
     use crate::script_runner::{ScriptRunner, validate};
+
+    #[test]
+    fn a_seed_after_the_name_replaces_the_scripts_seed() {
+        let seeded = get_seeded("c5_full_crumple@7").unwrap();
+        let seeds: Vec<_> = seeded.set.iter().filter(|(k, _)| k == "seed").collect();
+        assert_eq!(seeds.len(), 1);
+        assert!(matches!(seeds[0].1, crate::script::ScriptValue::Number(s) if s == 7.0));
+        assert_eq!(
+            get_seeded("c5_full_crumple").unwrap(),
+            get("c5_full_crumple").unwrap()
+        );
+        assert!(matches!(
+            get_seeded("c5_full_crumple@x"),
+            Err(ScenarioError::Seed(..))
+        ));
+        assert!(matches!(
+            get_seeded("nope@1"),
+            Err(ScenarioError::Unknown(_))
+        ));
+    }
 
     #[test]
     fn every_scenario_parses_and_validates() {
