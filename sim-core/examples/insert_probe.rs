@@ -2,7 +2,8 @@
 //! insertion (`GeometryConfig::insert_singular_vertices`), per seed scene.
 //!
 //! `cargo run --release -p sim-core --example insert_probe [-- NAME[@SEED]...]` (`ISO=0`: isometry
-//! step off)
+//! step off; `CUT=1`: strip cutting on, `GeometryConfig::cut_strips`, the strips cut shown after
+//! the vertices inserted)
 //!
 //! Per scene and mode: singular points, how many sit exactly at s̄ (pattern distance
 //! < 1 µm) and the largest distance, S_P vertices inserted, final mesh size, mean c_mean and
@@ -35,6 +36,8 @@ fn main() {
             if std::env::var("ISO").is_ok_and(|v| v == "0") {
                 cfg.geometry.isometry.enabled = false;
             }
+            let cut = std::env::var("CUT").is_ok_and(|v| v == "1");
+            cfg.geometry.cut_strips = cut;
             let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default())
                 .expect("runner");
             let mut sim = runner.start(cfg);
@@ -49,7 +52,12 @@ fn main() {
                     awake += 1;
                     strain = strain.max(out.stats.max_strain);
                 }
-                if std::env::var("PAPIER_TRACE").is_ok() && out.stats.max_strain > 0.12 {
+                // `PAPIER_TRACE[=STRAIN]`: the worst edge of every frame strained beyond STRAIN
+                // (default 0.12).
+                let trace_above = std::env::var("PAPIER_TRACE")
+                    .ok()
+                    .map(|v| v.parse::<f32>().unwrap_or(0.12));
+                if trace_above.is_some_and(|a| out.stats.max_strain > a) {
                     let sp = &sim.sheet().sp;
                     let (mut worst, mut we) = (0.0f64, 0usize);
                     for e in 0..sp.num_edges() {
@@ -60,14 +68,15 @@ fn main() {
                     }
                     let ed = sp.topo.edges[we];
                     eprintln!(
-                        "f {} strain {:.3} worst edge {:?} ratio {worst:.3} rest {:.4} m, angle {:.3}, damage {:.2}, singular {:?}",
+                        "f {} strain {:.3} worst edge {:?} ratio {worst:.3} rest {:.4} m, angle {:.3}, damage {:.2}, singular {:?}, cuts so far {}",
                         sim.frame(),
                         out.stats.max_strain,
                         ed.v,
                         sp.edge_rest_len_m[we],
                         sp.edge_rest_angle[we],
                         sp.edge_damage[we],
-                        ed.v.map(|v| sp.singular.contains(&v))
+                        ed.v.map(|v| sp.singular.contains(&v)),
+                        sim.cut_strips()
                     );
                 }
                 undone += u64::from(out.stats.undo_streak > 0);
@@ -93,11 +102,16 @@ fn main() {
             let dmax = dists.iter().copied().fold(0.0, f64::max);
             let sp = &sim.sheet().sp;
             println!(
-                "| {name} | {} | {} | {exact} | {:.1} | {} | {} / {} | {:.4} | {:.3} | {deepest:.2} | {undone} | {:.3} |",
+                "| {name} | {} | {} | {exact} | {:.1} | {}{} | {} / {} | {:.4} | {:.3} | {deepest:.2} | {undone} | {:.3} |",
                 if insert { "on" } else { "off" },
                 g.singular.len(),
                 dmax * 1e3,
                 sim.inserted_vertices(),
+                if cut {
+                    format!(" + {} cuts", sim.cut_strips())
+                } else {
+                    String::new()
+                },
                 sp.num_vertices(),
                 sp.num_triangles(),
                 c_sum / awake.max(1) as f64,

@@ -138,8 +138,9 @@
 //!   S_P (a region is a set of S_P triangles; a ruling is a traced pattern line), and S_P
 //!   changes only where S_G gains a vertex: a singular point gets an S_P vertex at its drawn
 //!   position (next bullet), inserted with state transfer ([`crate::sheet::refine`]), and
-//!   where a compressed flat edge is flipped (step 2). Strip
-//!   cutting marks the strip's triangles curved instead of inserting rulings; cone
+//!   where a compressed flat edge is flipped (step 2). By default strip
+//!   cutting marks the strip's triangles curved instead of inserting rulings (the opt-in cut
+//!   is the next bullet but one); cone
 //!   **realignment and boundary resampling** (§3.7 steps 1–7) act on S_G's published rulings
 //!   only ([`realign`]: the physics does not see them). Reasons: the physics solver's sparse
 //!   factorization, the allocation-free step, the plugin's preallocated mesh and per-vertex
@@ -182,6 +183,28 @@
 //!   26/24, 30/20, 22/17, 25/19, 23/20, 23/17, 17/13, 27/22. The twist, the double bend and the other scenes
 //!   place the same singular points either way.
 //!   When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
+//! - **Strip cutting is built but off by default** ([`GeometryConfig::cut_strips`]). The
+//!   seeds cut the flat region along a new strip's extremal rulings and remesh the strip as a
+//!   curved region whose rulings are edges (P 459–487, T 879–906). Our strip is the one line
+//!   of triangles the propagation walk crossed, so the cut is along that walk's line, the
+//!   imaginary ruling itself: every S_P edge it crossed, up to and including its border edge,
+//!   is split where the line crosses it, or the line snaps to the edge's end when the crossing
+//!   is within a third of the edge from it ([`crate::sheet::cut`]). The ruling becomes a chain
+//!   of S_P edges, a straight hinge the sheet can bend along; the shape and the energy do not
+//!   change (each new vertex lies on an old straight edge). One cut per frame (the frame's
+//!   first new strip), done by the sim at the start of the next step like a vertex insertion
+//!   (`sim/remesh.rs`, announced by `Sim::refinement_pending`, saved with the sheet). A line
+//!   through a hand's pinch is not cut. Both choices were measured
+//!   (`sim-core/examples/insert_probe.rs` with `CUT=1`, C5 seeds 1–8): cutting through the
+//!   pinch and snapping only within a fifth of the edge made 4–10 cuts per run, short edges
+//!   next to the held corners and a largest strain of 0.19 and 0.27 in two seeds (health
+//!   limit 0.1). As built: 1–4 cuts per run; 17–35 singular points (median 29; without cuts
+//!   26, 26, 28, 35, 21, 30, 27, 39), largest strain ≤ 0.099, c_mean 0.015–0.042 %. The other
+//!   scenes: the twist keeps no singular point and its largest strain falls from 0.045 to
+//!   0.005 (c_mean 0.015 → 0.006 %), but the double bend C4 makes 5 singular points where its
+//!   target is 1–4 (1 without cuts, 6–7 cuts), and every cut adds triangles (C4 130 → 176)
+//!   and frame time (S1 0.50 → 0.79 ms per frame). Nothing removes triangles yet (the
+//!   coarsening of `docs/sp-regeneration-plan.md` step 2), so it stays opt-in.
 //! - **Edge flips act on S_P** (step 2 above, digest test 2): the seeds flip edges of the
 //!   coarse S_G triangulation of a flat region so that a fold across its other diagonal can
 //!   be seen (their S_P, resampled from S_G, bends underneath). Here S_G's flat regions are
@@ -234,6 +257,7 @@ use crate::material::PaperMaterial;
 use crate::math::{V2, V3, sym2_eigen};
 use crate::physics::bending::dihedral;
 use crate::self_proximity::SelfProximity;
+use crate::sheet::cut::EdgeCrossing;
 use crate::sheet::geometric::{GVertex, GeomStructure, VKind};
 use crate::sheet::physical::PhysMesh;
 use crate::sheet::topology::NONE;
@@ -279,6 +303,8 @@ pub const JUMP_EVENT_M: f64 = 5e-4;
 pub const MAX_EVENTS: usize = 64;
 /// Longest propagation walk, in triangles.
 const MAX_WALK: usize = 256;
+/// Most edge crossings of a strip's cut line (both walks).
+const MAX_CUT_CROSSINGS: usize = 2 * MAX_WALK + 2;
 
 /// Settings of the geometry layer (part of [`crate::SimConfig`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -315,6 +341,12 @@ pub struct GeometryConfig {
     /// compressed (the seeds' flip rule, T 826; done by the sim at the start of the next step,
     /// [`crate::sheet::refine::flip_edge`]). On by default (see the module doc, "Edge flips").
     pub flip_compressed_edges: bool,
+    /// Cut S_P along a new strip's imaginary ruling, so that the ruling becomes a chain of
+    /// S_P edges the sheet can bend along (the seeds' strip cutting, TOG P 459–487; done by the
+    /// sim at the start of the next step, [`crate::sheet::cut`]). Off by default: without the
+    /// coarsening of `docs/sp-regeneration-plan.md` step 2 every cut only adds triangles (see
+    /// the module doc, "Strip cutting").
+    pub cut_strips: bool,
 }
 
 impl Default for GeometryConfig {
@@ -331,6 +363,7 @@ impl Default for GeometryConfig {
             isometry: IsometryConfig::default(),
             insert_singular_vertices: true,
             flip_compressed_edges: true,
+            cut_strips: false,
         }
     }
 }
@@ -615,6 +648,14 @@ pub enum ShapeEvent {
         /// True when both borders were free (a new generalized cylinder).
         cylinder: bool,
     },
+    /// A new strip's imaginary ruling was cut into S_P ([`GeometryConfig::cut_strips`]): the
+    /// sheet's triangles changed, not its shape.
+    StripCut {
+        /// S_P vertices on the cut line (a chain of edges).
+        chain_vertices: u32,
+        /// Of them, new vertices.
+        added_vertices: u32,
+    },
     /// Curved triangles turned flat (regions flattened or shrunk).
     Flattened {
         /// Triangles that turned flat.
@@ -793,6 +834,10 @@ pub struct SavedGeometry {
     /// compression, frame found). Absent when none (and in saves from before it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pending_flip: Option<([u32; 2], f64, f64, u64)>,
+    /// A strip waiting to be cut: (crossed edges in line order with the crossing parameter,
+    /// frame found). Absent when none (and in saves from before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pending_cut: Option<(Vec<([u32; 2], f64)>, u64)>,
 }
 
 /// Where a propagation direction ended.
@@ -863,6 +908,12 @@ pub struct GeometryLayer {
     pending: Option<PendingSingular>,
     /// An edge waiting to be flipped (at most one per frame).
     pending_flip: Option<PendingFlip>,
+    /// The crossings of the last propagation's strip, in line order (workspace).
+    cut_line: Vec<EdgeCrossing>,
+    /// A strip waiting to be cut along `pending_cut` (at most one per frame): frame found.
+    pending_cut_frame: Option<u64>,
+    /// Its crossings, in line order.
+    pending_cut: Vec<EdgeCrossing>,
     /// This frame's event list was started before the layer ran ([`Self::start_events_early`]).
     keep_events: bool,
     /// The isometry step's crossing test found S_P's final positions of this frame crossing
@@ -974,6 +1025,9 @@ impl GeometryLayer {
             frames_processed: 0,
             pending: None,
             pending_flip: None,
+            cut_line: Vec::with_capacity(MAX_CUT_CROSSINGS),
+            pending_cut_frame: None,
+            pending_cut: Vec::with_capacity(MAX_CUT_CROSSINGS),
             keep_events: false,
         };
         let mut count = vec![0u32; nv + 1];
@@ -1107,6 +1161,10 @@ impl GeometryLayer {
             pending_flip: self
                 .pending_flip
                 .map(|f| (f.edge, f.compression, f.other_compression, f.frame)),
+            pending_cut: self.pending_cut_frame.map(|f| {
+                let line = self.pending_cut.iter().map(|c| (c.edge, c.u)).collect();
+                (line, f)
+            }),
         }
     }
 
@@ -1168,6 +1226,23 @@ impl GeometryLayer {
                         })
                     }
                 };
+                self.pending_cut.clear();
+                self.pending_cut_frame = None;
+                if let Some((line, f)) = &g.pending_cut {
+                    let bad = line.len() > self.pending_cut.capacity()
+                        || line.iter().any(|&([a, b], u)| {
+                            a == b
+                                || a as usize >= nv
+                                || b as usize >= nv
+                                || !(0.0..=1.0).contains(&u)
+                        });
+                    if bad {
+                        return Err("bad pending strip cut".into());
+                    }
+                    self.pending_cut
+                        .extend(line.iter().map(|&(edge, u)| EdgeCrossing { edge, u }));
+                    self.pending_cut_frame = Some(*f);
+                }
                 self.pending_flip = match g.pending_flip {
                     None => None,
                     Some(([a, b], c, o, f)) => {
@@ -1187,6 +1262,8 @@ impl GeometryLayer {
                 self.iso_undriven_compression = 0.0;
                 self.pending = None;
                 self.pending_flip = None;
+                self.pending_cut.clear();
+                self.pending_cut_frame = None;
                 for &v in &sp.singular {
                     self.push_singular(sp, v, sp.pattern[v as usize], 0, SingularCase::Restored);
                 }
@@ -1477,6 +1554,31 @@ impl GeometryLayer {
         });
     }
 
+    /// The strip found last frame to be cut, if any: its crossings in line order and the frame
+    /// (taken: the sim cuts it, [`crate::sheet::cut::cut_along`], then calls
+    /// [`Self::strip_cut`] on the layer rebuilt for the new mesh; an undone frame drops it).
+    /// Allocates the returned list (a cut is an event).
+    pub fn take_pending_cut(&mut self) -> Option<(Vec<EdgeCrossing>, u64)> {
+        let f = self.pending_cut_frame.take()?;
+        let line = self.pending_cut.clone();
+        self.pending_cut.clear();
+        Some((line, f))
+    }
+
+    /// The crossings of the strip waiting to be cut, in line order, if any.
+    pub fn pending_cut(&self) -> Option<&[EdgeCrossing]> {
+        self.pending_cut_frame.map(|_| self.pending_cut.as_slice())
+    }
+
+    /// Reports the cut of a strip (chain of `chain_vertices` S_P vertices, `added` of them
+    /// new) as this frame's event.
+    pub fn strip_cut(&mut self, chain_vertices: u32, added: u32) {
+        self.out.push_event(ShapeEvent::StripCut {
+            chain_vertices,
+            added_vertices: added,
+        });
+    }
+
     /// Steps 3–6: compression analysis, propagation, singular vertices, fibre damage.
     fn treat_compression(
         &mut self,
@@ -1536,6 +1638,7 @@ impl GeometryLayer {
                 // about its most bent edge (the first strongly bent ruling, P 700–704).
                 self.strip.clear();
                 self.strip.push(t_comp as u32);
+                self.cut_line.clear();
                 let mut e_best: Option<(f64, u32)> = None;
                 for k in 0..3 {
                     let e = sp.topo.he_edge[3 * t_comp + k];
@@ -1571,6 +1674,20 @@ impl GeometryLayer {
             for &t in &self.strip {
                 self.curved[t as usize] = true;
                 self.refractory_until[t as usize] = frame + REFRACTORY_FRAMES;
+            }
+            if !was_curved
+                && self.cfg.cut_strips
+                && self.pending_cut_frame.is_none()
+                && borders.iter().all(|b| *b != Border::None)
+                && !self.cut_line.is_empty()
+                && !self
+                    .cut_line
+                    .iter()
+                    .any(|c| c.edge.iter().any(|&v| self.near_held[v as usize]))
+            {
+                self.pending_cut.clear();
+                self.pending_cut.extend_from_slice(&self.cut_line);
+                self.pending_cut_frame = Some(frame);
             }
             if made == 0 && !was_curved {
                 let n = self.strip.len() as u32;
@@ -1724,6 +1841,7 @@ impl GeometryLayer {
     fn propagate(&mut self, sp: &PhysMesh, t_comp: u32, v_perp: V2) -> [Border; 2] {
         self.strip.clear();
         self.strip.push(t_comp);
+        self.cut_line.clear();
         let tri = sp.triangles[t_comp as usize];
         let centroid = (sp.pattern[tri[0] as usize]
             + sp.pattern[tri[1] as usize]
@@ -1742,7 +1860,18 @@ impl GeometryLayer {
             let aniso = &self.tri_aniso;
             let bend = &self.tri_bend;
             let strip = &mut self.strip;
+            let cut_line = &mut self.cut_line;
+            let side_start = cut_line.len();
             walk::walk(sp, t_comp, centroid, dir, MAX_WALK, |c| {
+                // The strip's crossings, up to and including its border edge: the line a
+                // strip cut splits (`GeometryConfig::cut_strips`).
+                if in_curved.is_none() && cut_line.len() < cut_line.capacity() {
+                    let h = c.half_edge;
+                    cut_line.push(EdgeCrossing {
+                        edge: [sp.topo.half_edges[h as usize].origin, sp.topo.dest(h)],
+                        u: c.u,
+                    });
+                }
                 if let Some((_, steps)) = in_curved {
                     if c.to == NONE || steps >= 4 {
                         // No strongly bent ruling right behind the border: the curved region
@@ -1785,6 +1914,11 @@ impl GeometryLayer {
                 }
             });
             borders[side] = border;
+            if side == 1 {
+                // Line order: the second walk's crossings reversed, then the first walk's.
+                self.cut_line[side_start..].reverse();
+                self.cut_line.rotate_left(side_start);
+            }
         }
         borders
     }
@@ -2911,6 +3045,114 @@ mod tests {
                 .iter()
                 .any(|e| matches!(e, ShapeEvent::StripCurved { cylinder: true, .. }))
         );
+    }
+
+    /// Strip cutting (`cut_strips`): the cylinder strip of the compressed flat sheet is cut
+    /// along its imaginary ruling, so that the ruling becomes a chain of S_P edges from border
+    /// to border; the strip's triangles stay curved on the cut mesh. Off, nothing is pending.
+    #[test]
+    fn a_new_cylinder_strip_is_cut_along_its_ruling_when_cutting_is_on() {
+        let fixed = vec![false; sheet().0.num_vertices()];
+        let obstacles = Obstacles::new(&RoomConfig::default());
+        let squeezed = || {
+            let (mut sp, sg) = sheet();
+            for i in 0..sp.num_vertices() {
+                sp.pos[i].x *= 0.99;
+            }
+            (sp, sg)
+        };
+        let (mut sp, mut sg) = squeezed();
+        let mut off = layer(&sp);
+        off.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
+        assert!(off.pending_cut().is_none());
+
+        let (mut sp, mut sg) = squeezed();
+        let mut g = layer(&sp);
+        g.cfg.cut_strips = true;
+        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
+        let line = g.pending_cut().expect("the strip is to be cut").to_vec();
+        // From border to border, in order along the ruling (v⊥ = ±y).
+        let point = |c: &EdgeCrossing| {
+            let [a, b] = c.edge.map(|v| sp.pattern[v as usize]);
+            a + (b - a) * c.u
+        };
+        let ys: Vec<f64> = line.iter().map(|c| point(c).y).collect();
+        let xs: Vec<f64> = line.iter().map(|c| point(c).x).collect();
+        assert!(ys.windows(2).all(|w| w[1] > w[0]) || ys.windows(2).all(|w| w[1] < w[0]));
+        assert!(
+            xs.iter().all(|x| (x - xs[0]).abs() < 1e-9),
+            "a straight ruling ∥ y"
+        );
+        for end in [&line[0], &line[line.len() - 1]] {
+            let e = sp.topo.find_edge(end.edge[0], end.edge[1]).unwrap();
+            assert!(sp.topo.edges[e as usize].is_boundary());
+        }
+        // The sim's part: cut, carry the layer over.
+        let strip_tris: Vec<u32> = (0..sp.num_triangles() as u32)
+            .filter(|&t| g.curved[t as usize])
+            .collect();
+        assert!(strip_tris.len() >= 8);
+        let (taken, frame) = g.take_pending_cut().unwrap();
+        assert_eq!((taken.as_slice(), frame), (line.as_slice(), 1));
+        assert!(g.pending_cut().is_none());
+        let cut = crate::sheet::cut::cut_along(&sp, &taken).unwrap();
+        let m = &cut.mesh;
+        let (first, last) = (cut.chain[0], *cut.chain.last().unwrap());
+        assert!(m.topo.vertex_on_boundary[first as usize]);
+        assert!(m.topo.vertex_on_boundary[last as usize]);
+        assert!(cut.chain.len() >= 8);
+        for w in cut.chain.windows(2) {
+            assert!(m.topo.find_edge(w[0], w[1]).is_some());
+        }
+        let mut sg2 = GeomStructure::initial(m);
+        let mut g2 = g
+            .remeshed(
+                m,
+                &mut sg2,
+                &cut.tri_parent,
+                &PaperMaterial::of(crate::control::Material::Printer),
+                1,
+            )
+            .unwrap();
+        g2.strip_cut(cut.chain.len() as u32, cut.added as u32);
+        assert!(g2.frame().events.iter().any(|e| matches!(
+            e,
+            ShapeEvent::StripCut { added_vertices, .. } if *added_vertices as usize == cut.added
+        )));
+        for (t, &p) in cut.tri_parent.iter().enumerate() {
+            assert_eq!(g2.curved[t], g.curved[p as usize]);
+        }
+    }
+
+    #[test]
+    fn a_pending_cut_survives_save_and_restore_and_a_corrupt_one_is_refused() {
+        let (sp, mut sg) = sheet();
+        let mut g = layer(&sp);
+        let e = sp.topo.edges[20].v;
+        g.pending_cut.extend([
+            EdgeCrossing { edge: e, u: 0.4 },
+            EdgeCrossing {
+                edge: sp.topo.edges[21].v,
+                u: 0.5,
+            },
+        ]);
+        g.pending_cut_frame = Some(9);
+        let saved = g.save();
+        let mut r = layer(&sp);
+        r.restore(&sp, &mut sg, Some(&saved)).unwrap();
+        assert_eq!(r.pending_cut(), g.pending_cut());
+        assert_eq!(r.save(), saved);
+        for bad in [
+            vec![([e[0], e[0]], 0.4)],
+            vec![([e[0], 100_000], 0.4)],
+            vec![(e, f64::NAN)],
+            vec![(e, 1.5)],
+            vec![(e, 0.5); 2000],
+        ] {
+            let mut s2 = saved.clone();
+            s2.pending_cut = Some((bad, 9));
+            assert!(layer(&sp).restore(&sp, &mut sg, Some(&s2)).is_err());
+        }
     }
 
     /// Digest §8 test 3, case {∂S, singular on a crease} (Fig. 6c): a sheet folded along a

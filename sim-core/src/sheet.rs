@@ -16,7 +16,10 @@
 //! - [`geometric`]: S_G (the data model; its operations are [`crate::geometry`]);
 //! - [`refine`]: vertex insertion into S_P with state transfer (a singular vertex at its exact
 //!   drawn position).
+//! - [`cut`]: cutting S_P along a straight pattern line with state transfer (a strip's ruling
+//!   becomes a chain of S_P edges).
 
+pub mod cut;
 pub mod geometric;
 pub mod pattern;
 pub mod physical;

@@ -218,6 +218,8 @@ pub struct Sim {
     inserted_vertices: u64,
     /// S_P edges flipped (sim/remesh.rs).
     flipped_edges: u64,
+    /// Strips cut into S_P ([`crate::geometry::GeometryConfig::cut_strips`]).
+    cut_strips: u64,
     analysis: SoundAnalysis,
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
@@ -293,6 +295,7 @@ impl Sim {
             frames_simulated: 0,
             inserted_vertices: 0,
             flipped_edges: 0,
+            cut_strips: 0,
             analysis,
             proximity: {
                 // Vertices inserted at singular points make pairs of triangles a fraction of an
@@ -419,10 +422,13 @@ impl Sim {
     }
 
     /// True if the next [`Self::step`] starts by inserting an S_P vertex for a singular point
-    /// drawn in the last frame or by flipping a compressed edge found then (sim/remesh.rs):
+    /// drawn in the last frame, by flipping a compressed edge found then, or by cutting a new
+    /// strip (sim/remesh.rs):
     /// that step allocates (a new mesh), every other step does not. A host that steps the sheet on its audio thread permits it there.
     pub fn refinement_pending(&self) -> bool {
-        self.geometry.pending_singular().is_some() || self.geometry.pending_flip().is_some()
+        self.geometry.pending_singular().is_some()
+            || self.geometry.pending_flip().is_some()
+            || self.geometry.pending_cut().is_some()
     }
 
     /// S_P vertices inserted at singular points' drawn positions since this sim was made
@@ -435,6 +441,11 @@ impl Sim {
     /// the sheet).
     pub fn flipped_edges(&self) -> u64 {
         self.flipped_edges
+    }
+
+    /// Strips cut into S_P since this sim was made (sim/remesh.rs; not saved with the sheet).
+    pub fn cut_strips(&self) -> u64 {
+        self.cut_strips
     }
 
     /// Frames that ran the physics (not asleep) since creation.
@@ -647,6 +658,9 @@ impl Sim {
         if let Some(f) = self.geometry.take_pending_flip() {
             self.flip_pending_edge(&f);
         }
+        if let Some((line, _)) = self.geometry.take_pending_cut() {
+            self.cut_pending_strip(&line);
+        }
         if let Some(p) = self.geometry.take_pending_singular() {
             self.place_pending_singular(&p);
         }
@@ -752,6 +766,7 @@ impl Sim {
                 // dropped with the undone frame.
                 self.geometry.take_pending_singular();
                 self.geometry.take_pending_flip();
+                self.geometry.take_pending_cut();
             } else {
                 self.rig.state.undo_streak = 0;
             }

@@ -119,7 +119,7 @@ pub struct Insertion {
 
 /// The triangle of `triangles` containing `p` (largest smallest barycentric coordinate), with
 /// the coordinates. `None` when `p` is outside by more than a rounding error.
-fn locate(points: &[V2], triangles: &[[u32; 3]], p: V2) -> Option<(usize, [f64; 3])> {
+pub(super) fn locate(points: &[V2], triangles: &[[u32; 3]], p: V2) -> Option<(usize, [f64; 3])> {
     let mut best: Option<(usize, [f64; 3], f64)> = None;
     for (t, tri) in triangles.iter().enumerate() {
         let [a, b, c] = tri.map(|i| points[i as usize]);
@@ -141,7 +141,7 @@ fn in_circle(a: V2, b: V2, c: V2, d: V2) -> bool {
 }
 
 /// Smallest interior angle of the pattern triangle (a, b, c), radians.
-fn min_angle(a: V2, b: V2, c: V2) -> f64 {
+pub(super) fn min_angle(a: V2, b: V2, c: V2) -> f64 {
     let ang = |p: V2, q: V2, r: V2| {
         let (u, v) = (q - p, r - p);
         u.perp(&v).abs().atan2(u.dot(&v))
@@ -237,7 +237,7 @@ fn relax_new_vertex(points: &[V2], pos: &mut [V3], triangles: &[[u32; 3]], n: u3
 }
 
 /// Index of the triangle holding the directed edge u → w, and the third vertex.
-fn with_directed_edge(triangles: &[[u32; 3]], u: u32, w: u32) -> Option<(usize, u32)> {
+pub(super) fn with_directed_edge(triangles: &[[u32; 3]], u: u32, w: u32) -> Option<(usize, u32)> {
     triangles.iter().enumerate().find_map(|(t, tri)| {
         (0..3)
             .find(|&k| tri[k] == u && tri[(k + 1) % 3] == w)

@@ -1,4 +1,4 @@
-//! # Refining S_P for a singular vertex, flipping a compressed edge (the sim's side of [`crate::sheet::refine`])
+//! # Refining S_P for a singular vertex, flipping a compressed edge, cutting a strip (the sim's side of [`crate::sheet::refine`] and [`crate::sheet::cut`])
 //!
 //! When the geometry layer draws a singular vertex whose nearest S_P vertex cannot move to the
 //! drawn position s̄ in full, it leaves the point pending ([`GeometryLayer::take_pending_singular`]).
@@ -25,8 +25,14 @@
 //! then the same carry-over (vertex and triangle counts unchanged) and a
 //! [`crate::geometry::ShapeEvent::EdgeFlipped`] event.
 //!
-//! Building a mesh allocates: an insertion or a flip is an event (at most one of each per
-//! frame, announced by [`Sim::refinement_pending`]), like a reset, not a steady-state step.
+//! With [`crate::geometry::GeometryConfig::cut_strips`] on, a new strip found in the last
+//! frame ([`GeometryLayer::take_pending_cut`]) is cut along its imaginary ruling next, before
+//! the singular vertex: [`cut::cut_along`] (new vertices on the crossed edges, state carried
+//! over), refused if the cut mesh would exceed the capacity or cross itself, then the same
+//! carry-over and a [`crate::geometry::ShapeEvent::StripCut`] event.
+//!
+//! Building a mesh allocates: an insertion, a flip or a cut is an event (at most one of each
+//! per frame, announced by [`Sim::refinement_pending`]), like a reset, not a steady-state step.
 
 use super::Sim;
 use crate::collision::VertexContact;
@@ -36,6 +42,7 @@ use crate::math::V3;
 use crate::metrics::MetricsTracker;
 use crate::physics::Physics;
 use crate::sheet::Sheet;
+use crate::sheet::cut::{self, Cut, EdgeCrossing};
 use crate::sheet::geometric::GeomStructure;
 use crate::sheet::physical::PhysMesh;
 use crate::sheet::refine::{self, Flip, Insertion};
@@ -117,6 +124,39 @@ impl Sim {
         }
     }
 
+    /// Cuts the strip the geometry layer made last frame along its imaginary ruling
+    /// (`line`: its crossed edges in line order, [`cut::cut_along`]), if the cut mesh fits the
+    /// capacity the snapshots were sized for and does not make the sheet cross itself where
+    /// it did not; reports it as an event.
+    pub(super) fn cut_pending_strip(&mut self, line: &[EdgeCrossing]) {
+        let sp = &self.sheet.sp;
+        let Ok(c) = cut::cut_along(sp, line) else {
+            return;
+        };
+        let (cap_v, cap_t) = self.mesh_capacity;
+        if c.mesh.num_vertices() > cap_v || c.mesh.num_triangles() > cap_t {
+            return;
+        }
+        self.geometry.start_events_early();
+        self.asleep = false;
+        self.quiet_frames = 0;
+        // New vertices lie on old edges, so the surface is unchanged; checked all the same.
+        if !self.proximity.any_crossing(sp) && self.proximity.any_crossing(&c.mesh) {
+            return;
+        }
+        let Cut {
+            mesh,
+            chain,
+            added,
+            tri_parent,
+        } = c;
+        if self.adopt_mesh(mesh, &tri_parent).is_ok() {
+            self.geometry.strip_cut(chain.len() as u32, added as u32);
+            self.cut_strips += 1;
+            self.sheet.sg.pull_positions(&self.sheet.sp);
+        }
+    }
+
     /// Replaces S_P by `mesh` (refined or flipped: old vertices keep their index, `tri_parent`
     /// names each triangle's old triangle) and rebuilds what is sized by it. Nothing changes
     /// if an error is returned.
@@ -163,6 +203,7 @@ impl Sim {
 mod tests {
     use super::*;
     use crate::geometry::ShapeEvent;
+    use crate::math::V2;
     use crate::scenario;
     use crate::scenario_run::state_hash;
     use crate::script_runner::ScriptRunner;
@@ -276,6 +317,119 @@ mod tests {
         sim.sheet().sg.validate(sp).unwrap();
         assert_eq!(sp.num_triangles(), lattice.sheet().sp.num_triangles());
         assert_ne!(sp.triangles, lattice.sheet().sp.triangles);
+    }
+
+    /// With strip cutting on, the crumple's first strips are cut into S_P: announced the frame
+    /// before, reported as an event; the new vertices lie on the cut line in the pattern and
+    /// on the old surface in 3D, and the sheet stays valid.
+    #[test]
+    fn a_new_strip_is_cut_into_the_mesh_when_cutting_is_on() {
+        let script = scenario::get("c5_full_crumple").unwrap();
+        let mut base = SimConfig::default();
+        base.geometry.cut_strips = true;
+        let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
+        let mut sim = runner.start(base);
+        let mut out = FrameOutput::default();
+        let mut cut = None;
+        for _ in 0..120 {
+            let announced = sim.geometry_layer().pending_cut().map(<[_]>::to_vec);
+            if announced.is_some() {
+                assert!(sim.refinement_pending());
+            }
+            let before = sim.sheet().sp.clone();
+            assert!(runner.drive(&mut sim, &mut out));
+            let ev = sim.geometry().events.iter().find_map(|e| match e {
+                ShapeEvent::StripCut {
+                    chain_vertices,
+                    added_vertices,
+                } => Some((*chain_vertices, *added_vertices)),
+                _ => None,
+            });
+            if let Some((chain, added)) = ev {
+                let line = announced.expect("a cut is announced the frame before");
+                cut = Some((before, line, chain, added));
+                break;
+            }
+        }
+        let (before, line, chain, added) =
+            cut.expect("no strip cut in the crumple's first 120 frames");
+        assert_eq!(sim.cut_strips(), 1);
+        assert!(added >= 1 && chain >= added);
+        let sp = &sim.sheet().sp;
+        sp.topo.validate().unwrap();
+        sim.sheet().sg.validate(sp).unwrap();
+        // Unless a singular vertex was inserted too, the new vertices are the last ones.
+        let nv_old = before.num_vertices();
+        let cut_points: Vec<V2> = line
+            .iter()
+            .map(|c| {
+                let [a, b] = c.edge.map(|v| before.pattern[v as usize]);
+                a + (b - a) * c.u
+            })
+            .collect();
+        let on_line = |p: V2| {
+            cut_points.windows(2).any(|w| {
+                let d = w[1] - w[0];
+                (p - w[0]).perp(&d).abs() <= 1e-12 * d.norm() + 1e-15
+            })
+        };
+        let new_on_line = (nv_old..sp.num_vertices())
+            .filter(|&v| on_line(sp.pattern[v]))
+            .count();
+        assert_eq!(
+            new_on_line as u32, added,
+            "every new cut vertex is on the line"
+        );
+        assert_eq!(&sp.pattern[..nv_old], &before.pattern[..]);
+        assert!((sp.total_mass_kg() - before.total_mass_kg()).abs() < 1e-12);
+        assert_eq!(sim.contacts().len(), sp.num_vertices());
+        // The sheet goes on crumpling.
+        for _ in 0..60 {
+            assert!(runner.drive(&mut sim, &mut out));
+            assert!(
+                out.stats.max_strain < 0.1,
+                "frame {} strain {}",
+                sim.frame(),
+                out.stats.max_strain
+            );
+        }
+    }
+
+    /// A sheet saved with a strip cut pending restores it and continues bit-identically
+    /// through the cut.
+    #[test]
+    fn a_pending_strip_cut_is_saved_and_replays_exactly() {
+        let script = scenario::get("c5_full_crumple").unwrap();
+        let mut base = SimConfig::default();
+        base.geometry.cut_strips = true;
+        let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
+        let mut sim = runner.start(base);
+        let mut o1 = FrameOutput::default();
+        while sim.geometry_layer().pending_cut().is_none() {
+            assert!(runner.drive(&mut sim, &mut o1));
+            assert!(sim.frame() < 120, "no strip to cut");
+        }
+        let mut restored = Sim::restore(*sim.config(), &sim.save()).unwrap();
+        assert_eq!(
+            restored.geometry_layer().pending_cut(),
+            sim.geometry_layer().pending_cut()
+        );
+        let mut o2 = FrameOutput::default();
+        let mut cmds = Vec::new();
+        for _ in 0..40 {
+            cmds.clear();
+            assert!(runner.next_frame(&mut cmds));
+            for c in &cmds {
+                sim.apply(*c);
+                restored.apply(*c);
+            }
+            sim.step(&mut o1);
+            restored.step(&mut o2);
+            assert_eq!(state_hash(&sim), state_hash(&restored));
+            assert_eq!(o1.stats, o2.stats);
+        }
+        assert!(sim.cut_strips() >= 1);
+        assert_eq!(sim.cut_strips(), restored.cut_strips());
     }
 
     /// A refined sheet saved and restored continues bit-identically (the insertion rebuilds
