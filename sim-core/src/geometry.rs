@@ -295,7 +295,7 @@ pub const REFRACTORY_FRAMES: u64 = 20;
 /// Cosine of the largest facet rotation the isometry step may make in one frame (0.3 rad).
 pub const ISO_MAX_TURN_COS: f64 = 0.955_336_489_125_606;
 /// Undriven, the isometry step runs again only when the largest edge compression exceeds the
-/// one it last met by this factor (see [`GeometryLayer::isometry`]).
+/// one it last met by this factor (see the isometry step, module doc step 9).
 pub const ISO_REBUILT_FACTOR: f64 = 1.1;
 /// A vertex jump above this is reported as an event, metres.
 pub const JUMP_EVENT_M: f64 = 5e-4;
@@ -822,8 +822,8 @@ pub struct SavedGeometry {
     /// The layer's random number generator.
     pub rng: rand_pcg::Pcg32,
     /// Largest edge compression when the isometry step last ran in an undriven frame (0 =
-    /// none since the sheet was last driven; see [`GeometryLayer::isometry`]). Saves from
-    /// before this field load as 0.
+    /// none since the sheet was last driven; see the isometry step, module doc step 9). Saves
+    /// from before this field load as 0.
     #[serde(default)]
     pub iso_undriven_compression: f64,
     /// A singular vertex waiting for its inserted S_P vertex: (s̄, fallback vertex, case,
