@@ -1,8 +1,8 @@
 //! Development probe: when, where and why a scenario creates singular points.
 //!
-//! `cargo run --release -p sim-core --example singular_probe -- NAME|FILE.toml`
+//! `cargo run --release -p sim-core --example singular_probe -- NAME[@SEED]|FILE.toml`
 //! (`PAPIER_CURVED_FACTOR=F` and `PAPIER_GAUSS_FACTOR=F` override `GeometryConfig::curved_eps_factor`
-//! and `gauss_eps_factor`).
+//! and `gauss_eps_factor`; `CUT=1` turns strip cutting on, `GeometryConfig::cut_strips`).
 use sim_core::geometry::ShapeEvent;
 use sim_core::room::RoomConfig;
 use sim_core::scenario;
@@ -17,9 +17,10 @@ fn main() {
         sim_core::script::Script::parse(&std::fs::read_to_string(&name).expect("file"))
             .expect("script")
     } else {
-        scenario::get(&name).expect("scenario")
+        scenario::get_seeded(&name).expect("scenario")
     };
     let mut cfg = SimConfig::default();
+    cfg.geometry.cut_strips = std::env::var("CUT").is_ok_and(|v| v == "1");
     if let Some(f) = std::env::var("PAPIER_CURVED_FACTOR")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -42,7 +43,10 @@ fn main() {
         fmax = fmax.max(g.max_flat_compression);
         cmax = cmax.max(g.max_curved_compression);
         for e in &g.events {
-            if let ShapeEvent::SingularCreated { .. } | ShapeEvent::StripCurved { .. } = e {
+            if let ShapeEvent::SingularCreated { .. }
+            | ShapeEvent::StripCurved { .. }
+            | ShapeEvent::StripCut { .. } = e
+            {
                 println!("f {:4} {e:?}", sim.frame());
             }
         }

@@ -194,17 +194,20 @@
 //!   change (each new vertex lies on an old straight edge). One cut per frame (the frame's
 //!   first new strip), done by the sim at the start of the next step like a vertex insertion
 //!   (`sim/remesh.rs`, announced by `Sim::refinement_pending`, saved with the sheet). A line
-//!   through a hand's pinch is not cut. Both choices were measured
+//!   through a hand's pinch is not cut, nor a strip of fewer than
+//!   [`MIN_CUT_STRIP_TRIANGLES`]. The first two choices were measured
 //!   (`sim-core/examples/insert_probe.rs` with `CUT=1`, C5 seeds 1–8): cutting through the
 //!   pinch and snapping only within a fifth of the edge made 4–10 cuts per run, short edges
 //!   next to the held corners and a largest strain of 0.19 and 0.27 in two seeds (health
-//!   limit 0.1). As built: 1–4 cuts per run; 17–35 singular points (median 29; without cuts
-//!   26, 26, 28, 35, 21, 30, 27, 39), largest strain ≤ 0.099, c_mean 0.015–0.042 %. The other
-//!   scenes: the twist keeps no singular point and its largest strain falls from 0.045 to
-//!   0.005 (c_mean 0.015 → 0.006 %), but the double bend C4 makes 5 singular points where its
-//!   target is 1–4 (1 without cuts, 6–7 cuts), and every cut adds triangles (C4 130 → 176)
-//!   and frame time (S1 0.50 → 0.79 ms per frame). Nothing removes triangles yet (the
-//!   coarsening of `docs/sp-regeneration-plan.md` step 2), so it stays opt-in.
+//!   limit 0.1). As built: 0–2 cuts per run; 17–39 singular points (median 26.5; without
+//!   cuts 26, 26, 28, 35, 21, 30, 27, 39), largest strain ≤ 0.096, c_mean 0.012–0.047 %. The
+//!   other scenes: the twist keeps no singular point and its largest strain falls from 0.045
+//!   to 0.005 (c_mean 0.015 → 0.006 %), but the double bend C4 makes 5–9 singular points over
+//!   seeds 2–6 where its target is 1–4 (1–5 without cuts): the first bend's cut line stays a
+//!   straight hinge after the bend is gone, and the second bend folds sharply across it (the
+//!   seeds' regeneration would re-triangulate the flattened region). Every cut only adds
+//!   triangles (C4 130 → 164) and frame time (S1 0.50 → 0.84 ms per frame). Nothing
+//!   coarsens the mesh yet (`docs/sp-regeneration-plan.md` step 2), so it stays opt-in.
 //! - **Edge flips act on S_P** (step 2 above, digest test 2): the seeds flip edges of the
 //!   coarse S_G triangulation of a flat region so that a fold across its other diagonal can
 //!   be seen (their S_P, resampled from S_G, bends underneath). Here S_G's flat regions are
@@ -303,6 +306,11 @@ pub const JUMP_EVENT_M: f64 = 5e-4;
 pub const MAX_EVENTS: usize = 64;
 /// Longest propagation walk, in triangles.
 const MAX_WALK: usize = 256;
+/// A strip of fewer triangles is not cut (`GeometryConfig::cut_strips`): its borders are a
+/// triangle or two apart, so its cut would split an edge or two, a vertex more and no
+/// straight hinge (the double bend C4 and the crumples make many one- and two-triangle
+/// strips once their sheet is folded).
+pub const MIN_CUT_STRIP_TRIANGLES: usize = 4;
 /// Most edge crossings of a strip's cut line (both walks).
 const MAX_CUT_CROSSINGS: usize = 2 * MAX_WALK + 2;
 
@@ -1679,7 +1687,7 @@ impl GeometryLayer {
                 && self.cfg.cut_strips
                 && self.pending_cut_frame.is_none()
                 && borders.iter().all(|b| *b != Border::None)
-                && !self.cut_line.is_empty()
+                && self.strip.len() >= MIN_CUT_STRIP_TRIANGLES
                 && !self
                     .cut_line
                     .iter()
