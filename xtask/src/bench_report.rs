@@ -319,6 +319,17 @@ fn variants(quick: bool) -> Vec<Variant> {
         " (no sheet–sheet contact)",
     ));
     if !quick {
+        // Strip cutting (sim-core's sheet/cut.rs), off by default: a new strip's ruling cut
+        // into S_P, so its time and error are measured against the default's.
+        v.push(with_geometry(
+            variant("newton", SolverConfig::default(), d),
+            "geometry",
+            GeometryConfig {
+                cut_strips: true,
+                ..g
+            },
+            " (strip cutting on)",
+        ));
         // The seeds' schedule (isometry.rs "When it runs"): the step in every frame.
         v.push(iso_row(" (isometry every frame)", |i| {
             i.trigger_compression = None;
