@@ -236,3 +236,51 @@ fn reset_keeps_held_slots_and_size_changes_rebuild() {
     }
     assert_eq!(out.stats.recoveries, 0);
 }
+
+/// With strip cutting on (`GeometryConfig::cut_strips`, off by default; sheet/cut.rs), every
+/// seed scenario stays as healthy as the default, its mesh stays valid, and the scenes that
+/// make long strips at a gesture's onset are cut (measured: C2, C3, C4 and S1 two cuts each,
+/// C5 and S4 one; docs/sp-regeneration-plan.md step 1).
+#[test]
+fn with_strip_cutting_every_scenario_stays_healthy_and_some_are_cut() {
+    let mut cuts = 0;
+    for name in scenario::names() {
+        let script = scenario::get(name).unwrap();
+        let mut base = SimConfig::default();
+        base.geometry.cut_strips = true;
+        let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
+        let mut sim = runner.start(base);
+        let mut out = FrameOutput::default();
+        let (mut strain, mut c_sum, mut awake) = (0.0f32, 0.0f64, 0u32);
+        while runner.drive(&mut sim, &mut out) {
+            assert_eq!(
+                (out.stats.num_flipped, out.stats.recoveries),
+                (0, 0),
+                "{name}"
+            );
+            if !out.stats.asleep {
+                strain = strain.max(out.stats.max_strain);
+                c_sum += f64::from(out.stats.c_mean_pct);
+                awake += 1;
+            }
+        }
+        let sp = &sim.sheet().sp;
+        sp.topo.validate().unwrap();
+        sim.sheet().sg.validate(sp).unwrap();
+        assert!(
+            sp.pos.iter().all(|p| p.iter().all(|c| c.is_finite())),
+            "{name}"
+        );
+        // The default's bounds (every_scenario_is_healthy_and_near_isometric): measured with
+        // cuts, the largest strain is 0.072 (C5) and c_mean at most 0.028 %.
+        assert!(strain < 0.1, "{name}: strain {strain}");
+        assert!(c_sum / f64::from(awake.max(1)) < 0.5, "{name}: c_mean");
+        assert!(
+            sp.num_triangles() <= 220,
+            "{name}: {} triangles",
+            sp.num_triangles()
+        );
+        cuts += sim.cut_strips();
+    }
+    assert!(cuts >= 5, "{cuts} strips cut over the seed scenes");
+}
