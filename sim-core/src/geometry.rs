@@ -189,25 +189,27 @@
 //!   of triangles the propagation walk crossed, so the cut is along that walk's line, the
 //!   imaginary ruling itself: every S_P edge it crossed, up to and including its border edge,
 //!   is split where the line crosses it, or the line snaps to the edge's end when the crossing
-//!   is within a third of the edge from it ([`crate::sheet::cut`]). The ruling becomes a chain
-//!   of S_P edges, a straight hinge the sheet can bend along; the shape and the energy do not
-//!   change (each new vertex lies on an old straight edge). One cut per frame (the frame's
-//!   first new strip), done by the sim at the start of the next step like a vertex insertion
-//!   (`sim/remesh.rs`, announced by `Sim::refinement_pending`, saved with the sheet). A line
-//!   through a hand's pinch is not cut, nor a strip of fewer than
-//!   [`MIN_CUT_STRIP_TRIANGLES`]. The first two choices were measured
+//!   is within a third of the edge from it, then Delaunay flips about the new vertices
+//!   ([`crate::sheet::cut`]). The ruling becomes a chain of S_P edges, a straight hinge the
+//!   sheet can bend along; the shape and the energy do not change (each new vertex lies on an
+//!   old straight edge). One cut per frame (the frame's first new strip), done by the sim at
+//!   the start of the next step like a vertex insertion (`sim/remesh.rs`, announced by
+//!   `Sim::refinement_pending`, saved with the sheet). A line through a hand's pinch is not
+//!   cut, nor a strip of fewer than [`MIN_CUT_STRIP_TRIANGLES`]. Measured
 //!   (`sim-core/examples/insert_probe.rs` with `CUT=1`, C5 seeds 1–8): cutting through the
 //!   pinch and snapping only within a fifth of the edge made 4–10 cuts per run, short edges
 //!   next to the held corners and a largest strain of 0.19 and 0.27 in two seeds (health
-//!   limit 0.1). As built: 0–2 cuts per run; 17–39 singular points (median 26.5; without
-//!   cuts 26, 26, 28, 35, 21, 30, 27, 39), largest strain ≤ 0.096, c_mean 0.012–0.047 %. The
-//!   other scenes: the twist keeps no singular point and its largest strain falls from 0.045
-//!   to 0.005 (c_mean 0.015 → 0.006 %), but the double bend C4 makes 5–9 singular points over
-//!   seeds 2–6 where its target is 1–4 (1–5 without cuts): the first bend's cut line stays a
-//!   straight hinge after the bend is gone, and the second bend folds sharply across it (the
-//!   seeds' regeneration would re-triangulate the flattened region). Every cut only adds
-//!   triangles (C4 130 → 164) and frame time (S1 0.50 → 0.84 ms per frame). Nothing
-//!   coarsens the mesh yet (`docs/sp-regeneration-plan.md` step 2), so it stays opt-in.
+//!   limit 0.1). As built, cuts happen only at a gesture's onset (frames 9–21, the first
+//!   compression passes): 0–2 per run; 21–39 singular points (median 30; without cuts 26, 26,
+//!   28, 35, 21, 30, 27, 39), largest strain ≤ 0.096, c_mean 0.010–0.047 %. The other scenes
+//!   keep their targets: the twist has no singular point and its largest strain falls from
+//!   0.045 to 0.006 (c_mean 0.015 → 0.007 %); the double bend C4 makes 2 in each of seeds 2–6
+//!   and its own (1–5 without cuts). Why it stays opt-in: every cut only adds triangles (S1
+//!   130 → 158) and frame time, since nothing coarsens the mesh yet
+//!   (`docs/sp-regeneration-plan.md` step 2), and under the stress stream's hostile grabs a
+//!   small cut triangle next to a just-grabbed vertex can still turn over in one frame
+//!   (`sim-stress --cut-strips`: 1 of 13 sessions of 10⁴ frames, seed 15, which passes
+//!   without cuts).
 //! - **Edge flips act on S_P** (step 2 above, digest test 2): the seeds flip edges of the
 //!   coarse S_G triangulation of a flat region so that a fold across its other diagonal can
 //!   be seen (their S_P, resampled from S_G, bends underneath). Here S_G's flat regions are

@@ -2,8 +2,10 @@
 //!
 //! ```text
 //! cargo run --release -p sim-core --bin sim-stress -- [--frames N] [--seed S] [--sessions K]
-//!     [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--trace]
+//!     [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--trace]
 //! ```
+//!
+//! `--cut-strips` turns on the opt-in strip cutting (`GeometryConfig::cut_strips`).
 //!
 //! The frames are split into `K` sessions with seeds `S, S+1, …` (each a fresh sheet, sizes
 //! and materials changing within a session). Exits with status 1 on the first violated
@@ -23,6 +25,7 @@ fn main() {
     let mut solver = SolverKind::Newton;
     let mut trace = false;
     let mut geometry = true;
+    let mut cut_strips = false;
     let mut stretch_scale: Option<f64> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -43,6 +46,7 @@ fn main() {
             }
             "--trace" => trace = true,
             "--no-geometry" => geometry = false,
+            "--cut-strips" => cut_strips = true,
             "--stretch-scale" => {
                 stretch_scale = Some(
                     val()
@@ -63,6 +67,7 @@ fn main() {
     for s in 0..sessions {
         let mut sim = SimConfig::default();
         sim.geometry.enabled = geometry;
+        sim.geometry.cut_strips = cut_strips;
         sim.solver.kind = solver;
         if let Some(k) = stretch_scale {
             sim.solver.stretch_scale = k;
@@ -116,7 +121,7 @@ fn usage(msg: &str) -> ! {
         eprintln!("sim-stress: {msg}");
     }
     eprintln!(
-        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--trace]"
+        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--trace]"
     );
     std::process::exit(2);
 }

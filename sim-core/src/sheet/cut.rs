@@ -18,8 +18,8 @@
 //! - within [`SNAP_FRAC`] of an edge end, that end (no sliver is made);
 //! - otherwise a new vertex splitting the edge there: its one or two triangles (u, w, o) and
 //!   (w, u, x) become (u, n, o), (n, w, o), (w, n, x), (n, u, x). A split whose new triangles
-//!   would have an angle below [`crate::sheet::refine::MIN_ANGLE_RAD`] snaps to the nearer end
-//!   instead.
+//!   would have an angle below [`CUT_MIN_ANGLE_RAD`] (12°, as for a vertex insertion) snaps
+//!   to the nearer end instead.
 //!
 //! Splitting the crossed edges one after the other joins them: consecutive crossings are
 //! two edges of the one triangle the line runs through between them, and the split of the
@@ -27,6 +27,20 @@
 //! split's vertex, or the snapped end (an end of either edge is a corner of that triangle). So
 //! the chain is made of edges without any search; it is checked all the same, and a broken
 //! chain refuses the cut.
+//!
+//! Then **Lawson flips** about the new vertices, as after a vertex insertion
+//! ([`crate::sheet::refine`]): an edge of a triangle with a new vertex whose quad's far vertex
+//! lies inside the triangle's circumcircle is swapped for the quad's other diagonal, if the
+//! quad is strictly convex, the flip raises its smallest angle, and the edge is not on the cut
+//! line, carries no rest angle or damage and is bent by less than
+//! [`FLIP_MAX_DIHEDRAL_RAD`]. Measured (`sim-core/examples/insert_probe.rs` and
+//! `singular_probe.rs` with `CUT=1`, `sim-stress --cut-strips`): without them, the splits'
+//! small triangles (down to 1/15 of a lattice triangle) made the double bend C4 fold sharply
+//! along the cut line (5–9 singular points over seeds 2–6, target 1–4; with them 2 in every
+//! seed), and a hostile stress session (seed 2) turned a 15.6° triangle of a cut over in one
+//! frame next to a vertex a hand had just grabbed (with them it passes). A minimum angle of
+//! 20° instead fixed that session but left the full crumple's seed 3 with 7 singular points
+//! and strained seed 4 by 0.126.
 //!
 //! ## State transfer
 //!
@@ -41,13 +55,20 @@
 //! so per-triangle state follows. Building a mesh allocates: a cut is an event, like a vertex
 //! insertion ([`crate::sheet::refine`]).
 
-use super::refine::{MIN_ANGLE_RAD, locate, min_angle, with_directed_edge};
+use super::refine::{FLIP_MAX_DIHEDRAL_RAD, in_circle, locate, min_angle, with_directed_edge};
 use crate::math::V2;
+use crate::physics::bending::dihedral;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::physical::{MeshError, PhysMesh};
 
 /// A crossing within this fraction of an edge's length from one of its ends uses that end.
 pub const SNAP_FRAC: f64 = 0.33;
+/// Smallest pattern angle a split may make; a crossing whose split would make a smaller one
+/// uses the nearer end of its edge (12°, as for a vertex insertion,
+/// [`crate::sheet::refine::MIN_ANGLE_RAD`]).
+pub const CUT_MIN_ANGLE_RAD: f64 = super::refine::MIN_ANGLE_RAD;
+/// Passes of Delaunay flips about the new vertices, at most.
+const MAX_FLIP_PASSES: usize = 8;
 
 /// One S_P edge crossed by the cut line.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,6 +112,8 @@ pub struct Cut {
     pub chain: Vec<u32>,
     /// Vertices added (appended after the old ones).
     pub added: usize,
+    /// Delaunay flips made about them.
+    pub flips: usize,
     /// Per triangle of the cut mesh, the old triangle under its pattern centroid.
     pub tri_parent: Vec<u32>,
 }
@@ -142,7 +165,7 @@ impl Work {
                 }
             })
             .fold(f64::INFINITY, f64::min);
-        if worst < MIN_ANGLE_RAD {
+        if worst < CUT_MIN_ANGLE_RAD {
             return None;
         }
         let (iu, iw) = (u as usize, w as usize);
@@ -157,6 +180,74 @@ impl Work {
         }
         self.split_of.push((key(u, w), n));
         Some(n)
+    }
+
+    /// Lawson flips about the new vertices (index ≥ `n0`), as after a vertex insertion: an
+    /// edge of a triangle with a new vertex is swapped for the other diagonal of its quad when
+    /// the quad's far vertex lies inside the triangle's circumcircle, the quad is strictly
+    /// convex and the flip raises the quad's smallest angle — unless the edge is on the cut
+    /// line (`chain`), carries a rest angle or damage (its own, or the split edge's it is half
+    /// of), or is bent by more than [`FLIP_MAX_DIHEDRAL_RAD`] (a flip would change the shape).
+    fn improve(&mut self, sp: &PhysMesh, n0: usize, chain: &[u32]) -> usize {
+        let on_chain = |a: u32, b: u32| chain.windows(2).any(|w| key(w[0], w[1]) == key(a, b));
+        let mut flips = 0;
+        for _ in 0..MAX_FLIP_PASSES {
+            let mut flipped = false;
+            for t1 in 0..self.triangles.len() {
+                let tri = self.triangles[t1];
+                if tri.iter().all(|&v| (v as usize) < n0) {
+                    continue;
+                }
+                for k in 0..3 {
+                    let (u, w, o1) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                    if on_chain(u, w) || self.creased(sp, u, w) {
+                        continue;
+                    }
+                    let Some((t2, o2)) = with_directed_edge(&self.triangles, w, u) else {
+                        continue;
+                    };
+                    let p = |i: u32| self.points[i as usize];
+                    if !in_circle(p(u), p(w), p(o1), p(o2))
+                        || signed_area(p(o1), p(o2), p(u)) * signed_area(p(o1), p(o2), p(w)) >= 0.0
+                    {
+                        continue;
+                    }
+                    let before = min_angle(p(u), p(w), p(o1)).min(min_angle(p(w), p(u), p(o2)));
+                    let after = min_angle(p(o1), p(u), p(o2)).min(min_angle(p(o1), p(o2), p(w)));
+                    let theta = dihedral(&[u, w, o1, o2].map(|i| self.pos[i as usize]));
+                    if after <= before || theta.abs() > FLIP_MAX_DIHEDRAL_RAD {
+                        continue;
+                    }
+                    self.triangles[t1] = [o1, u, o2];
+                    self.triangles[t2] = [o1, o2, w];
+                    flips += 1;
+                    flipped = true;
+                    break;
+                }
+            }
+            if !flipped {
+                break;
+            }
+        }
+        flips
+    }
+
+    /// True if edge (a, b) carries a rest angle or damage: its own as an old edge, or that of
+    /// the old edge it is half of.
+    fn creased(&self, sp: &PhysMesh, a: u32, b: u32) -> bool {
+        let n0 = sp.num_vertices() as u32;
+        let old = if a < n0 && b < n0 {
+            Some(key(a, b))
+        } else {
+            self.split_of
+                .iter()
+                .find(|&&(k, n)| (a == n && k.contains(&b)) || (b == n && k.contains(&a)))
+                .map(|&(k, _)| k)
+        };
+        old.and_then(|[x, y]| sp.topo.find_edge(x, y))
+            .is_some_and(|e| {
+                sp.edge_rest_angle[e as usize] != 0.0 || sp.edge_damage[e as usize] != 0.0
+            })
     }
 
     fn has_edge(&self, a: u32, b: u32) -> bool {
@@ -208,6 +299,7 @@ pub fn cut_along(sp: &PhysMesh, crossings: &[EdgeCrossing]) -> Result<Cut, CutEr
     if added == 0 {
         return Err(CutError::NothingToCut);
     }
+    let flips = work.improve(sp, n0, &chain);
     if let Some(w) = chain.windows(2).find(|w| !work.has_edge(w[0], w[1])) {
         return Err(CutError::Broken(w[0], w[1]));
     }
@@ -259,6 +351,7 @@ pub fn cut_along(sp: &PhysMesh, crossings: &[EdgeCrossing]) -> Result<Cut, CutEr
         mesh,
         chain,
         added,
+        flips,
         tri_parent,
     })
 }
@@ -359,7 +452,7 @@ mod tests {
         }
         for tri in &m.triangles {
             let [a, b, c] = tri.map(|i| m.pattern[i as usize]);
-            assert!(min_angle(a, b, c) >= MIN_ANGLE_RAD - 1e-12);
+            assert!(min_angle(a, b, c) >= CUT_MIN_ANGLE_RAD - 1e-12);
         }
         let area = |m: &PhysMesh| m.tri_rest.iter().map(|r| r.area_m2).sum::<f64>();
         assert!((area(m) - area(&sp)).abs() < 1e-15);
@@ -445,7 +538,7 @@ mod tests {
                     }
                     for tri in &cut.mesh.triangles {
                         let [a, b, c] = tri.map(|i| cut.mesh.pattern[i as usize]);
-                        assert!(min_angle(a, b, c) >= MIN_ANGLE_RAD - 1e-12);
+                        assert!(min_angle(a, b, c) >= CUT_MIN_ANGLE_RAD - 1e-12);
                     }
                 }
                 Err(CutError::NothingToCut) => {}

@@ -133,7 +133,7 @@ pub(super) fn locate(points: &[V2], triangles: &[[u32; 3]], p: V2) -> Option<(us
 }
 
 /// True if `d` lies strictly inside the circumcircle of the counter-clockwise triangle (a, b, c).
-fn in_circle(a: V2, b: V2, c: V2, d: V2) -> bool {
+pub(super) fn in_circle(a: V2, b: V2, c: V2, d: V2) -> bool {
     let (ad, bd, cd) = (a - d, b - d, c - d);
     let det = ad.norm_squared() * bd.perp(&cd) - bd.norm_squared() * ad.perp(&cd)
         + cd.norm_squared() * ad.perp(&bd);

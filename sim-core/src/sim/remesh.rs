@@ -149,6 +149,7 @@ impl Sim {
             chain,
             added,
             tri_parent,
+            ..
         } = c;
         if self.adopt_mesh(mesh, &tri_parent).is_ok() {
             self.geometry.strip_cut(chain.len() as u32, added as u32);
