@@ -360,22 +360,8 @@ pub fn cut_along(sp: &PhysMesh, crossings: &[EdgeCrossing]) -> Result<Cut, CutEr
 mod tests {
     use super::*;
     use crate::geometry::walk::walk;
-    use crate::math::V3;
-    use crate::sheet::pattern::lattice;
 
-    /// A 10 cm lattice sheet bent into a gentle cylinder, moving, with one folded, damaged
-    /// edge.
-    fn sheet() -> PhysMesh {
-        let p = lattice(0.1, 0.1, 0.1 / 9.0);
-        let mut sp = PhysMesh::from_pattern(&p, 0.0, 0.08).unwrap();
-        for (i, q) in sp.pattern.iter().enumerate() {
-            let r = 0.2;
-            let a = q.x / r;
-            sp.pos[i] = V3::new(r * a.sin(), q.y, r * (1.0 - a.cos()));
-            sp.vel[i] = V3::new(0.1 * q.y, -0.05, 0.3 * q.x);
-        }
-        sp
-    }
+    use crate::sheet::refine::tests::bent_sheet as sheet;
 
     /// The crossings of the whole line through `o` along `d`, boundary to boundary, ordered.
     fn line(sp: &PhysMesh, o: V2, d: V2) -> Vec<EdgeCrossing> {

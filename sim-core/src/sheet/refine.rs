@@ -596,14 +596,14 @@ pub fn flip_edge(sp: &PhysMesh, edge: u32) -> Result<Flip, FlipError> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::sheet::pattern::lattice;
     use rand::{RngExt, SeedableRng};
 
-    /// A 10 cm square lattice sheet, bent into a gentle cylinder and moving, with one damaged
-    /// and angled edge.
-    fn sheet() -> PhysMesh {
+    /// A 10 cm lattice sheet, bent into a gentle cylinder (radius 20 cm) and moving (also the
+    /// fixture of the cut tests, `sheet/cut.rs`).
+    pub(in crate::sheet) fn bent_sheet() -> PhysMesh {
         let p = lattice(0.1, 0.1, 0.1 / 9.0);
         let mut sp = PhysMesh::from_pattern(&p, 0.0, 0.08).unwrap();
         for (i, q) in sp.pattern.iter().enumerate() {
@@ -612,6 +612,12 @@ mod tests {
             sp.pos[i] = V3::new(r * a.sin(), q.y, r * (1.0 - a.cos()));
             sp.vel[i] = V3::new(0.1 * q.y, -0.05, 0.3 * q.x);
         }
+        sp
+    }
+
+    /// [`bent_sheet`] with one damaged and angled edge.
+    fn sheet() -> PhysMesh {
+        let mut sp = bent_sheet();
         sp.edge_rest_angle[40] = 0.05;
         sp.edge_damage[40] = 1.5;
         sp

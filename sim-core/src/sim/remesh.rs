@@ -104,23 +104,16 @@ impl Sim {
         let Ok(flip) = refine::flip_edge(sp, edge) else {
             return;
         };
-        self.geometry.start_events_early();
-        self.asleep = false;
-        self.quiet_frames = 0;
         // The new diagonal cuts across a quad that is not quite planar: refused if that makes
         // a crossing with another layer (as an insertion is).
-        if !self.proximity.any_crossing(sp) && self.proximity.any_crossing(&flip.mesh) {
-            return;
-        }
         let Flip {
             mesh,
             diagonal,
             tri_parent,
         } = flip;
-        if self.adopt_mesh(mesh, &tri_parent).is_ok() {
+        if self.adopt_uncrossed(mesh, &tri_parent) {
             self.geometry.edge_flipped(f, diagonal);
             self.flipped_edges += 1;
-            self.sheet.sg.pull_positions(&self.sheet.sp);
         }
     }
 
@@ -137,13 +130,7 @@ impl Sim {
         if c.mesh.num_vertices() > cap_v || c.mesh.num_triangles() > cap_t {
             return;
         }
-        self.geometry.start_events_early();
-        self.asleep = false;
-        self.quiet_frames = 0;
         // New vertices lie on old edges, so the surface is unchanged; checked all the same.
-        if !self.proximity.any_crossing(sp) && self.proximity.any_crossing(&c.mesh) {
-            return;
-        }
         let Cut {
             mesh,
             chain,
@@ -151,11 +138,26 @@ impl Sim {
             tri_parent,
             ..
         } = c;
-        if self.adopt_mesh(mesh, &tri_parent).is_ok() {
+        if self.adopt_uncrossed(mesh, &tri_parent) {
             self.geometry.strip_cut(chain.len() as u32, added as u32);
             self.cut_strips += 1;
-            self.sheet.sg.pull_positions(&self.sheet.sp);
         }
+    }
+
+    /// The common end of a flip and a cut (a connectivity change with the sheet's shape kept):
+    /// starts this frame's events, wakes the sheet, and adopts `mesh` unless it crosses itself
+    /// where S_P did not. Returns whether it was adopted.
+    fn adopt_uncrossed(&mut self, mesh: PhysMesh, tri_parent: &[u32]) -> bool {
+        self.geometry.start_events_early();
+        self.wake();
+        if !self.proximity.any_crossing(&self.sheet.sp) && self.proximity.any_crossing(&mesh) {
+            return false;
+        }
+        if self.adopt_mesh(mesh, tri_parent).is_err() {
+            return false;
+        }
+        self.sheet.sg.pull_positions(&self.sheet.sp);
+        true
     }
 
     /// Replaces S_P by `mesh` (refined or flipped: old vertices keep their index, `tri_parent`
