@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release -p sim-core --example insert_probe [-- NAME[@SEED]...]` (`ISO=0`: isometry
 //! step off; `CUT=1`: strip cutting on, `GeometryConfig::cut_strips`, the strips cut shown after
-//! the vertices inserted)
+//! the vertices inserted; `COUPLING=N`: `SolverConfig::contact_coupling_pairs`)
 //!
 //! Per scene and mode: singular points, how many sit exactly at s̄ (pattern distance
 //! < 1 µm) and the largest distance, S_P vertices inserted, final mesh size, mean c_mean and
@@ -38,6 +38,9 @@ fn main() {
             }
             let cut = std::env::var("CUT").is_ok_and(|v| v == "1");
             cfg.geometry.cut_strips = cut;
+            if let Some(n) = std::env::var("COUPLING").ok().and_then(|v| v.parse().ok()) {
+                cfg.solver.contact_coupling_pairs = n;
+            }
             let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, RoomConfig::default())
                 .expect("runner");
             let mut sim = runner.start(cfg);

@@ -66,7 +66,12 @@
 //! [`HAND_COMPLIANCE_M_N`] per newton of excess, at most the travel clamp) and stays there
 //! while its target stays put ([`crate::handles::HandState::advance`]): it settles where the
 //! pull is within its grip. Gravity and ordinary bending pull with millinewtons, so
-//! this only acts on contradictory gestures, and it bounds the strain they can cause.
+//! this only acts on contradictory gestures, and it bounds the strain they can cause. A hand
+//! never gives way into the table, wall or floor: the part of a slip that would take its held
+//! patch deeper into an obstacle is taken back (the obstacle holds the hand, as it holds the
+//! paper). Without that, a crumpled ball held against a raised table was pulled down by its
+//! layers and a held corner stayed 4 mm inside the table top, the hand slipping in as fast as
+//! the push out of obstacles took it back (`tests/scenarios.rs`).
 //!
 //! **Crumple cap.** Sheet–sheet contact ([`crate::physics::sheet_contact`]) holds layers that
 //! come within 1.5 mm apart, but a fold snapping through a coarse mesh moves ~1 cm in a
@@ -920,9 +925,10 @@ impl GestureRig {
         }
     }
 
-    /// Lets hands give way where the sheet pulls harder than their grip (see the module doc).
-    /// `forces` are the elastic forces on the vertices; returns true if any hand slipped.
-    pub fn apply_slip(&mut self, forces: &[V3], frame_scale: f64) -> bool {
+    /// Lets hands give way where the sheet pulls harder than their grip, never deeper into an
+    /// obstacle (see the module doc). `forces` are the elastic forces on the vertices; returns
+    /// true if any hand slipped.
+    pub fn apply_slip(&mut self, forces: &[V3], frame_scale: f64, obstacles: &Obstacles) -> bool {
         let clamp_m = self.travel_clamp_m(frame_scale);
         let mut f = [V3::zeros(); NUM_HANDS];
         for &(v, k, _) in &self.ownership {
@@ -938,8 +944,23 @@ impl GestureRig {
             let fmax = grip_force_n(h.speed_m_s) * f64::from(self.info[k].def.num_mains);
             if n > fmax && n.is_finite() {
                 let d = ((n - fmax) * HAND_COMPLIANCE_M_N).min(clamp_m);
-                let p = h.pose.pos() + fk * (d / n);
-                h.pose = Pose::new(p, h.pose.rotation());
+                let r = h.pose.rotation();
+                let p0 = h.pose.pos();
+                let mut p = p0 + fk * (d / n);
+                for pl in obstacles.planes.iter().filter(|pl| pl.active) {
+                    // Deepest held vertex in the plane before and after the slip.
+                    let depth = |at: V3| {
+                        (0..self.info[k].def.num_vertices as usize)
+                            .filter(|&j| h.holds(j))
+                            .map(|j| -pl.distance(&(at + r * V3::from(h.offsets_m[j]))))
+                            .fold(f64::NEG_INFINITY, f64::max)
+                    };
+                    let excess = depth(p) - depth(p0).max(0.0);
+                    if excess > 0.0 {
+                        p += pl.normal * excess;
+                    }
+                }
+                h.pose = Pose::new(p, r);
                 h.slipping = true;
                 any = true;
             }
@@ -1057,6 +1078,43 @@ mod tests {
         assert!((gap - 0.5 * l).abs() < 1e-9, "gap {gap}");
         assert!(target[back].y - target[front].y < 0.6 * l);
         assert!(fixed.iter().filter(|&&f| f).count() >= 4 * 4);
+    }
+
+    /// A hand pulled down and sideways beyond its grip slips sideways along the table but not
+    /// into it; with no table it slips down too (so the test can fail).
+    #[test]
+    fn a_slipping_hand_slides_along_the_table_not_into_it() {
+        let (sheet, _, table, mut rng) = setup();
+        let no_table = Obstacles::new(&RoomConfig {
+            table: false,
+            ..RoomConfig::default()
+        });
+        for (obs, on_table) in [(&table, true), (&no_table, false)] {
+            let mut rig = GestureRig::new(&sheet, 0.75);
+            rig.grab(GrabSlot::Back, 0.0, &sheet.sp.pos);
+            run(&mut rig, &sheet, obs, &mut rng, 5);
+            let (fixed, before) = targets(&rig, &sheet);
+            let mut forces = vec![V3::zeros(); sheet.sp.num_vertices()];
+            for (f, &held) in forces.iter_mut().zip(&fixed) {
+                if held {
+                    *f = V3::new(30.0, 0.0, -30.0);
+                }
+            }
+            assert!(rig.apply_slip(&forces, 1.0, obs));
+            let (_, after) = targets(&rig, &sheet);
+            let held: Vec<usize> = (0..fixed.len()).filter(|&i| fixed[i]).collect();
+            let dx = held.iter().map(|&i| after[i].x - before[i].x).sum::<f64>();
+            let z_min = held
+                .iter()
+                .map(|&i| after[i].z)
+                .fold(f64::INFINITY, f64::min);
+            assert!(dx > 1e-4 * held.len() as f64, "slid {dx}");
+            if on_table {
+                assert!(z_min >= 0.75 - 1e-12, "into the table: {z_min}");
+            } else {
+                assert!(z_min < 0.75 - 1e-4, "slipped down: {z_min}");
+            }
+        }
     }
 
     #[test]

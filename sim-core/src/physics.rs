@@ -85,6 +85,11 @@ pub struct SolverConfig {
     /// Sheet–sheet contact ([`sheet_contact`]): parts of the sheet closer than
     /// [`sheet_contact::SHEET_CONTACT_DIST_M`] push apart.
     pub sheet_contact: bool,
+    /// Newton: active sheet–sheet contact pairs whose whole Hessian (rank one, coupling the
+    /// two layers) enters the linear solve through the Woodbury identity
+    /// ([`sparse::BlockSystem::add_rank_one`]); further pairs add their diagonal blocks only.
+    /// 0 = diagonal blocks only. At most [`sparse::LOW_RANK_CAPACITY`].
+    pub contact_coupling_pairs: u32,
 }
 
 impl Default for SolverConfig {
@@ -122,6 +127,7 @@ impl Default for SolverConfig {
             drag_normal_per_s: 6.0,
             drag_per_s: 0.3,
             sheet_contact: true,
+            contact_coupling_pairs: 32,
         }
     }
 }
@@ -149,6 +155,9 @@ impl SolverConfig {
             drag_normal_per_s: pos(self.drag_normal_per_s, d.drag_normal_per_s, 0.0, 1e3),
             drag_per_s: pos(self.drag_per_s, d.drag_per_s, 0.0, 1e3),
             sheet_contact: self.sheet_contact,
+            contact_coupling_pairs: self
+                .contact_coupling_pairs
+                .min(sparse::LOW_RANK_CAPACITY as u32),
         }
     }
 }

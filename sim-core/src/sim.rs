@@ -736,7 +736,9 @@ impl Sim {
         let mut slipped = false;
         if self.rig.num_active_hands() > 0 {
             crate::physics::elastic_forces(&self.sheet.sp, &self.params, &mut self.forces);
-            slipped = self.rig.apply_slip(&self.forces, frame_scale);
+            slipped = self
+                .rig
+                .apply_slip(&self.forces, frame_scale, &self.obstacles);
         }
         self.phase_ns.physics_ns = self.stopwatch.lap_ns();
         if self.cfg.geometry.enabled {

@@ -318,6 +318,21 @@ fn variants(quick: bool) -> Vec<Variant> {
         g,
         " (no sheet–sheet contact)",
     ));
+    // The contact pairs' coupling in the Newton solve (sim-core's physics/sparse.rs, Woodbury)
+    // against their diagonal Hessian blocks alone, the solver before it.
+    v.push(with_geometry(
+        variant(
+            "newton",
+            SolverConfig {
+                contact_coupling_pairs: 0,
+                ..SolverConfig::default()
+            },
+            d,
+        ),
+        "geometry",
+        g,
+        " (contact Hessian: diagonal blocks only)",
+    ));
     if !quick {
         // Strip cutting (sim-core's sheet/cut.rs), off by default: a new strip's ruling cut
         // into S_P, so its time and error are measured against the default's.

@@ -9,7 +9,9 @@
 //! repeat ≤ iterations:
 //!     g = ∇E(x),  H = PSD approximation of ∇²E(x)        (membrane: clamped geometric term;
 //!                                                        hinges and friction: Gauss–Newton)
-//!     solve H Δ = −g  on the free vertices               (faer sparse Cholesky, fixed pattern)
+//!     solve H Δ = −g  on the free vertices               (faer sparse Cholesky, fixed pattern;
+//!                                                        sheet–sheet contact pairs' rank-one
+//!                                                        terms by the Woodbury identity)
 //!     α = 1; while E(x + αΔ) > E(x) + 10⁻⁴ α gᵀΔ
 //!                  or a triangle of x + αΔ is turned by > 90° from x_n: α ← α/2   (≤ 8 halvings)
 //!     (no acceptable α: retry with H + ρ M/h², ρ = 10, 1000 — Levenberg–Marquardt)
@@ -146,6 +148,8 @@ impl NewtonSolver {
                 }
             }
         }
+        self.sys
+            .set_low_rank_limit(cfg.contact_coupling_pairs as usize);
         let mut report = SubstepReport::default();
         let mut e0 = f64::NAN;
         'newton: for _ in 0..cfg.iterations {
@@ -447,11 +451,16 @@ impl NewtonSolver {
                     .add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
             }
         }
-        // Sheet–sheet contact (sheet_contact.rs): diagonal blocks only, the pairs' coupling
-        // is not in the sparsity pattern.
+        // Sheet–sheet contact (sheet_contact.rs): the pairs' coupling is not in the sparsity
+        // pattern; each active pair's rank-one Hessian goes to the solve's Woodbury term, its
+        // diagonal blocks only beyond that term's capacity.
         for pair in ctx.frame.sheet.pairs() {
             let sys = &mut self.sys;
-            e += pair.accumulate(x, fixed, &mut self.grad, |v, b| sys.add_diag(v, b));
+            e += pair.accumulate(x, fixed, &mut self.grad, |p, d2e| {
+                if !sys.add_rank_one(&p.v, &p.w, &p.n, d2e, fixed) {
+                    p.diagonal_blocks(d2e, fixed, |v, b| sys.add_diag(v, b));
+                }
+            });
         }
         if want_energy {
             // Membrane energies were accumulated above; add nothing else.

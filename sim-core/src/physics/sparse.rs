@@ -24,6 +24,22 @@
 //!    frame measured with `perf`). The right-hand side is permuted before the solve and the
 //!    solution back after it (3n copies).
 //!
+//! 5. keep room for up to [`LOW_RANK_CAPACITY`] **rank-one terms u uᵀ** that couple vertices
+//!    sharing no block (the sheet–sheet contact pairs of `sheet_contact.rs`, whose two layers
+//!    are anywhere in the mesh). They are not put in the pattern, which would change the
+//!    fill-reducing ordering, the factor and its allocation whenever a pair comes or goes.
+//!    The solve takes them through the Woodbury identity instead: with A the factorized
+//!    pattern matrix and U = [u_1 … u_p],
+//!
+//!    ```text
+//!    (A + U Uᵀ)⁻¹ b = y − Z (I + Uᵀ Z)⁻¹ Uᵀ y,    y = A⁻¹ b,  Z = A⁻¹ U
+//!    ```
+//!
+//!    that is, one more solve with the p columns of U as right-hand sides (blocked, one pass
+//!    through the factor) and a dense p × p Cholesky factorization of the capacitance matrix
+//!    I + Uᵀ Z (symmetric positive definite, as A is). Each u has at most 12 non-zeros (four
+//!    vertices × 3), kept in the factor's order.
+//!
 //! Each Newton iteration then only zeroes and fills the blocks, scatters them into the CSC
 //! values (rows/columns of kinematic — handle — vertices become identity rows, so the pattern
 //! never changes when hands grab or release), factorizes numerically and solves, with no
@@ -39,6 +55,9 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRe
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::math::M3;
+
+/// Rank-one terms the solve takes through the Woodbury identity (see [`BlockSystem::add_rank_one`]).
+pub const LOW_RANK_CAPACITY: usize = 64;
 
 /// Marker for "no slot" (the lower triangle of a diagonal block).
 const NO_SLOT: u32 = u32::MAX;
@@ -70,6 +89,19 @@ pub struct BlockSystem {
     permuted_rhs: Vec<f64>,
     /// `perm_fwd[k]`: the original scalar index stored at position `k` of the permuted matrix.
     perm_fwd: Vec<usize>,
+    /// `perm_inv[i]`: the position in the permuted matrix of original scalar index `i`.
+    perm_inv: Vec<usize>,
+    /// Rank-one terms `u uᵀ` added to the matrix through the Woodbury identity, at most
+    /// [`LOW_RANK_CAPACITY`]: each `u` as (permuted scalar index, value) pairs, 12 at most.
+    low_rank: Vec<[(u32, f64); 12]>,
+    /// Rank-one terms accepted, ≤ [`LOW_RANK_CAPACITY`].
+    low_rank_limit: usize,
+    /// Z = A⁻¹ U, column-major `3n × LOW_RANK_CAPACITY` (permuted order).
+    lr_z: Vec<f64>,
+    /// The capacitance matrix I + Uᵀ Z, column-major, `LOW_RANK_CAPACITY²`.
+    lr_cap: Vec<f64>,
+    /// Uᵀ y and then the capacitance system's solution, `LOW_RANK_CAPACITY`.
+    lr_t: Vec<f64>,
     /// Number of numeric factorizations done (work counter for tests and benches).
     pub factorizations: u64,
 }
@@ -163,7 +195,12 @@ impl BlockSystem {
         );
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+            symbolic.solve_in_place_scratch::<f64>(LOW_RANK_CAPACITY, Par::Seq),
+            faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
+                LOW_RANK_CAPACITY,
+                Par::Seq,
+                Default::default(),
+            ),
         ]);
         let mem = MemBuffer::new(req);
         let l_values = vec![0.0; symbolic.len_val()];
@@ -180,6 +217,12 @@ impl BlockSystem {
             rhs: vec![0.0; dim],
             permuted_rhs: vec![0.0; dim],
             perm_fwd,
+            perm_inv,
+            low_rank: Vec::with_capacity(LOW_RANK_CAPACITY),
+            low_rank_limit: LOW_RANK_CAPACITY,
+            lr_z: vec![0.0; dim * LOW_RANK_CAPACITY],
+            lr_cap: vec![0.0; LOW_RANK_CAPACITY * LOW_RANK_CAPACITY],
+            lr_t: vec![0.0; LOW_RANK_CAPACITY],
             factorizations: 0,
         };
         // Warm-up: the first numeric factorization of the process initialises lazily computed
@@ -191,10 +234,32 @@ impl BlockSystem {
         for i in 0..n {
             sys.add_diag(i as u32, &M3::identity());
         }
+        if n > 0 {
+            // …and of the Woodbury path's dense kernels.
+            sys.add_rank_one(
+                &[0; 4],
+                &[1.0, 0.0, 0.0, 0.0],
+                &nalgebra::Vector3::x(),
+                1.0,
+                &free,
+            );
+        }
         let _ = sys.factorize_and_solve(&free, &ones, 0.0);
+        sys.low_rank.clear();
         sys.factorizations = 0;
         sys.rhs.iter_mut().for_each(|r| *r = 0.0);
         sys
+    }
+
+    /// Rank-one terms held.
+    pub fn low_rank_len(&self) -> usize {
+        self.low_rank.len()
+    }
+
+    /// Sets how many rank-one terms [`Self::add_rank_one`] accepts (at most
+    /// [`LOW_RANK_CAPACITY`]).
+    pub fn set_low_rank_limit(&mut self, limit: usize) {
+        self.low_rank_limit = limit.min(LOW_RANK_CAPACITY);
     }
 
     /// Number of vertices.
@@ -226,11 +291,47 @@ impl BlockSystem {
         ((self.n + k) as u32, i > j)
     }
 
-    /// Zeroes all blocks.
+    /// Zeroes all blocks and drops the rank-one terms.
     pub fn clear(&mut self) {
         for b in &mut self.blocks {
             *b = M3::zeros();
         }
+        self.low_rank.clear();
+    }
+
+    /// Adds the rank-one term `c (w ⊗ n)(w ⊗ n)ᵀ` (c ≥ 0) coupling up to four vertices that
+    /// need not share a block of the pattern; vertices with `skip[v]` are left out (their
+    /// rows are decoupled anyway). Returns false, adding nothing, when
+    /// [`LOW_RANK_CAPACITY`] terms are held already.
+    pub fn add_rank_one(
+        &mut self,
+        v: &[u32; 4],
+        w: &[f64; 4],
+        n: &nalgebra::Vector3<f64>,
+        c: f64,
+        skip: &[bool],
+    ) -> bool {
+        if self.low_rank.len() >= self.low_rank_limit {
+            return false;
+        }
+        let s = c.max(0.0).sqrt();
+        let mut u = [(0u32, 0.0); 12];
+        let mut len = 0;
+        for (&vi, &wi) in v.iter().zip(w) {
+            if skip[vi as usize] || wi == 0.0 {
+                continue;
+            }
+            for k in 0..3 {
+                let val = s * wi * n[k];
+                if val != 0.0 {
+                    u[len] = (self.perm_inv[3 * vi as usize + k] as u32, val);
+                    len += 1;
+                }
+            }
+        }
+        // Unused slots stay (0, 0.0): they add nothing.
+        self.low_rank.push(u);
+        true
     }
 
     /// Adds `m` to the (i, j) block given a precomputed `(block, transposed)` from
@@ -316,6 +417,55 @@ impl BlockSystem {
         let rhs = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
         let stack = MemStack::new(&mut self.mem);
         llt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
+        let p = self.low_rank.len();
+        if p > 0 {
+            // Woodbury: (A + U Uᵀ)⁻¹ b = y − Z (I + Uᵀ Z)⁻¹ Uᵀ y, with y = A⁻¹ b, Z = A⁻¹ U.
+            let z = &mut self.lr_z[..dim * p];
+            z.iter_mut().for_each(|v| *v = 0.0);
+            for (col, u) in self.low_rank.iter().enumerate() {
+                for &(i, val) in u {
+                    z[col * dim + i as usize] += val;
+                }
+            }
+            let zm = MatMut::from_column_major_slice_mut(z, dim, p);
+            let stack = MemStack::new(&mut self.mem);
+            llt.solve_in_place_with_conj(Conj::No, zm, Par::Seq, stack);
+            let cap = &mut self.lr_cap[..p * p];
+            for (a, ua) in self.low_rank.iter().enumerate() {
+                for b in 0..p {
+                    let zb = &z[b * dim..(b + 1) * dim];
+                    let dot: f64 = ua.iter().map(|&(i, val)| val * zb[i as usize]).sum();
+                    cap[b * p + a] = dot + if a == b { 1.0 } else { 0.0 };
+                }
+                self.lr_t[a] = ua
+                    .iter()
+                    .map(|&(i, val)| val * self.permuted_rhs[i as usize])
+                    .sum();
+            }
+            let stack = MemStack::new(&mut self.mem);
+            faer::linalg::cholesky::llt::factor::cholesky_in_place(
+                MatMut::from_column_major_slice_mut(cap, p, p),
+                LltRegularization::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map_err(|_| SolveError::NotPositiveDefinite)?;
+            let stack = MemStack::new(&mut self.mem);
+            faer::linalg::cholesky::llt::solve::solve_in_place_with_conj(
+                faer::MatRef::from_column_major_slice(cap, p, p),
+                Conj::No,
+                MatMut::from_column_major_slice_mut(&mut self.lr_t[..p], p, 1),
+                Par::Seq,
+                stack,
+            );
+            for (col, &t) in self.lr_t[..p].iter().enumerate() {
+                let zc = &z[col * dim..(col + 1) * dim];
+                for (y, &zv) in self.permuted_rhs.iter_mut().zip(zc) {
+                    *y -= zv * t;
+                }
+            }
+        }
         for (&y, &k) in self.permuted_rhs.iter().zip(&self.perm_fwd) {
             self.rhs[k] = y;
         }
@@ -392,5 +542,89 @@ mod tests {
             assert!((s.rhs[3 + c] - rhs[3 + c] / 2.0).abs() < 1e-14);
         }
         assert_eq!(s.factorizations, 2);
+    }
+
+    /// Rank-one terms between vertices that share no block (the solve's Woodbury term) give
+    /// the solution of the dense matrix with the terms added; a skipped (fixed) vertex is left
+    /// out of them, and terms beyond the limit are refused.
+    #[test]
+    fn rank_one_terms_solve_like_the_dense_matrix() {
+        let n = 6;
+        let chain: Vec<[u32; 2]> = (0..n as u32 - 1).map(|i| [i, i + 1]).collect();
+        let mut s = BlockSystem::new(n, chain.clone());
+        s.clear();
+        let mut dense = nalgebra::DMatrix::<f64>::zeros(3 * n, 3 * n);
+        for i in 0..n {
+            let d = M3::identity() * (3.0 + i as f64 * 0.1);
+            s.add_diag(i as u32, &d);
+            dense.view_mut((3 * i, 3 * i), (3, 3)).copy_from(&d);
+        }
+        let off = M3::new(-1.0, 0.1, 0.0, 0.2, -0.9, 0.1, 0.0, 0.0, -1.0) * 0.5;
+        for p in &chain {
+            s.add_off(s.off_block(p[0], p[1]), &off);
+            let (i, j) = (3 * p[0] as usize, 3 * p[1] as usize);
+            dense.view_mut((i, j), (3, 3)).copy_from(&off);
+            dense.view_mut((j, i), (3, 3)).copy_from(&off.transpose());
+        }
+        // Vertex 4 is fixed: its rows decouple.
+        let fixed = [false, false, false, false, true, false];
+        let terms: [([u32; 4], [f64; 4], nalgebra::Vector3<f64>, f64); 3] = [
+            (
+                [0, 3, 5, 2],
+                [1.0, -0.5, -0.3, -0.2],
+                nalgebra::Vector3::new(0.0, 0.6, 0.8),
+                40.0,
+            ),
+            (
+                [1, 4, 5, 0],
+                [0.7, 0.3, -0.4, -0.6],
+                nalgebra::Vector3::new(1.0, 0.0, 0.0),
+                25.0,
+            ),
+            (
+                [2, 5, 0, 1],
+                [1.0, -1.0, 0.0, 0.0],
+                nalgebra::Vector3::new(0.0, 0.0, 1.0),
+                10.0,
+            ),
+        ];
+        s.set_low_rank_limit(2);
+        for (k, (v, w, nrm, c)) in terms.iter().enumerate() {
+            let added = s.add_rank_one(v, w, nrm, *c, &fixed);
+            assert_eq!(added, k < 2);
+            if !added {
+                continue;
+            }
+            let mut u = nalgebra::DVector::<f64>::zeros(3 * n);
+            for (&vi, &wi) in v.iter().zip(w) {
+                if !fixed[vi as usize] {
+                    for r in 0..3 {
+                        u[3 * vi as usize + r] += c.sqrt() * wi * nrm[r];
+                    }
+                }
+            }
+            dense += &u * u.transpose();
+        }
+        assert_eq!(s.low_rank_len(), 2);
+        // The fixed vertex: identity-scaled row and column.
+        for r in 0..3 * n {
+            for c in 12..15 {
+                dense[(r, c)] = 0.0;
+                dense[(c, r)] = 0.0;
+            }
+        }
+        let diag_fixed = [1.0, 1.0, 1.0, 1.0, 2.0, 1.0];
+        for c in 12..15 {
+            dense[(c, c)] = 2.0;
+        }
+        let rhs: Vec<f64> = (0..3 * n).map(|k| (k as f64 * 0.71).cos()).collect();
+        s.rhs.copy_from_slice(&rhs);
+        s.factorize_and_solve(&fixed, &diag_fixed, 0.0).unwrap();
+        let x = nalgebra::DVector::from_column_slice(&s.rhs);
+        let r = &dense * &x - nalgebra::DVector::from_column_slice(&rhs);
+        assert!(r.norm() < 1e-12, "residual {}", r.norm());
+        // Without the terms the answer differs (the test can fail).
+        s.clear();
+        assert_eq!(s.low_rank_len(), 0);
     }
 }
