@@ -11,6 +11,9 @@ fn main() {
     };
     let mut cfg = SimConfig::default();
     cfg.solver.tolerance_m = tol;
+    if let Some(n) = std::env::var("COUPLING").ok().and_then(|v| v.parse().ok()) {
+        cfg.solver.contact_coupling_pairs = n;
+    }
     if std::env::var_os("NOGEOM").is_some() {
         cfg.geometry.enabled = false;
     }
