@@ -94,8 +94,9 @@
 //! replay does not cross again). The stop is at 1 mm, inside the contact skin: the squeeze
 //! goes on until layers touch and the contact holds them. Measured over C5 seeds 1–8
 //! (`insert_probe`): with the stop at 4 mm (back-off 2 mm) the squeeze reached 0.59–0.82;
-//! at 1 mm (back-off 0.5 mm) it reaches 0.65–0.98 with 0–2 undone frames per run (0.70–0.91
-//! before compressed flat edges were flipped, geometry.rs step 2); at
+//! at 1 mm (back-off 0.5 mm) it reaches 0.70–0.98 with 0–2 undone frames per run (0.65–0.98
+//! before hands stopped slipping into the table, 0.70–0.91 before compressed flat edges were
+//! flipped, geometry.rs step 2); at
 //! 0.5 mm it reached 0.70–1.00, but one run squashed a small triangle by 19 % in one
 //! direction (the scenario health limit is 10 %), and before the contact was stiffened
 //! where it crossed, seed 5 looped through 436 undone frames. With both, none of the test's 20 runs
