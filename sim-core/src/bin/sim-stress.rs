@@ -2,10 +2,13 @@
 //!
 //! ```text
 //! cargo run --release -p sim-core --bin sim-stress -- [--frames N] [--seed S] [--sessions K]
-//!     [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--trace]
+//!     [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips]
+//!     [--contact-coupling N] [--trace]
 //! ```
 //!
-//! `--cut-strips` turns on the opt-in strip cutting (`GeometryConfig::cut_strips`).
+//! `--cut-strips` turns on the opt-in strip cutting (`GeometryConfig::cut_strips`);
+//! `--contact-coupling N` sets `SolverConfig::contact_coupling_pairs` (0: the contact pairs'
+//! diagonal Hessian blocks only).
 //!
 //! The frames are split into `K` sessions with seeds `S, S+1, …` (each a fresh sheet, sizes
 //! and materials changing within a session). Exits with status 1 on the first violated
@@ -26,6 +29,7 @@ fn main() {
     let mut trace = false;
     let mut geometry = true;
     let mut cut_strips = false;
+    let mut coupling: Option<u32> = None;
     let mut stretch_scale: Option<f64> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -47,6 +51,13 @@ fn main() {
             "--trace" => trace = true,
             "--no-geometry" => geometry = false,
             "--cut-strips" => cut_strips = true,
+            "--contact-coupling" => {
+                coupling = Some(
+                    val()
+                        .parse()
+                        .unwrap_or_else(|_| usage("bad --contact-coupling")),
+                )
+            }
             "--stretch-scale" => {
                 stretch_scale = Some(
                     val()
@@ -71,6 +82,9 @@ fn main() {
         sim.solver.kind = solver;
         if let Some(k) = stretch_scale {
             sim.solver.stretch_scale = k;
+        }
+        if let Some(n) = coupling {
+            sim.solver.contact_coupling_pairs = n;
         }
         let cfg = StressConfig {
             seed: seed + s,
@@ -121,7 +135,7 @@ fn usage(msg: &str) -> ! {
         eprintln!("sim-stress: {msg}");
     }
     eprintln!(
-        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--trace]"
+        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--contact-coupling N] [--trace]"
     );
     std::process::exit(2);
 }
