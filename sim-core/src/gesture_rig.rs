@@ -119,7 +119,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::collision::Obstacles;
+use crate::collision::{Obstacles, PlaneObstacle};
 use crate::control::{GestureParam, GrabSlot};
 use crate::handles::{HandDef, HandState, HandleDef, MAX_HAND_VERTICES, Pose};
 use crate::math::{Rot, V2, V3};
@@ -749,24 +749,28 @@ impl GestureRig {
     /// travels there at its own speed, so a patch grabbed inside an obstacle (or overtaken by
     /// a moving table) comes out gradually instead of jumping.
     fn pushed_out(&self, k: usize, target: Pose, obstacles: &Obstacles) -> Pose {
-        let h = &self.state.hands[k];
         let r = target.rotation();
         let mut p = target.pos();
         for pl in obstacles.planes.iter() {
             if !pl.active {
                 continue;
             }
-            let mut push: f64 = 0.0;
-            for j in 0..self.info[k].def.num_vertices as usize {
-                if h.holds(j) {
-                    push = push.max(-pl.distance(&(p + r * V3::from(h.offsets_m[j]))));
-                }
-            }
+            let push = self.held_depth_m(k, p, &r, pl);
             if push > 0.0 {
                 p += pl.normal * push;
             }
         }
         Pose::new(p, r)
+    }
+
+    /// How deep the deepest vertex held by hand `k` lies inside plane `pl` with the hand at
+    /// `pos`, `rot`, metres (negative: all outside; −∞ if it holds none).
+    fn held_depth_m(&self, k: usize, pos: V3, rot: &Rot, pl: &PlaneObstacle) -> f64 {
+        let h = &self.state.hands[k];
+        (0..self.info[k].def.num_vertices as usize)
+            .filter(|&j| h.holds(j))
+            .map(|j| -pl.distance(&(pos + rot * V3::from(h.offsets_m[j]))))
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// A plane moving into a held patch (a table being raised) carries the hands along its
@@ -789,13 +793,7 @@ impl GestureRig {
                 if !h.active || self.suppressed[k] {
                     continue;
                 }
-                let r = h.pose.rotation();
-                let p = h.pose.pos();
-                for j in 0..self.info[k].def.num_vertices as usize {
-                    if h.holds(j) {
-                        pen = pen.max(-pl.distance(&(p + r * V3::from(h.offsets_m[j]))));
-                    }
-                }
+                pen = pen.max(self.held_depth_m(k, h.pose.pos(), &h.pose.rotation(), pl));
             }
             let push = pen.min(pl.speed_m_s * dt_s);
             if push > 0.0 {
@@ -937,7 +935,7 @@ impl GestureRig {
         }
         let mut any = false;
         for (k, fk) in f.iter().enumerate() {
-            let h = &mut self.state.hands[k];
+            let h = &self.state.hands[k];
             if !h.active || self.suppressed[k] {
                 continue;
             }
@@ -949,18 +947,13 @@ impl GestureRig {
                 let p0 = h.pose.pos();
                 let mut p = p0 + fk * (d / n);
                 for pl in obstacles.planes.iter().filter(|pl| pl.active) {
-                    // Deepest held vertex in the plane before and after the slip.
-                    let depth = |at: V3| {
-                        (0..self.info[k].def.num_vertices as usize)
-                            .filter(|&j| h.holds(j))
-                            .map(|j| -pl.distance(&(at + r * V3::from(h.offsets_m[j]))))
-                            .fold(f64::NEG_INFINITY, f64::max)
-                    };
-                    let excess = depth(p) - depth(p0).max(0.0);
+                    let excess =
+                        self.held_depth_m(k, p, &r, pl) - self.held_depth_m(k, p0, &r, pl).max(0.0);
                     if excess > 0.0 {
                         p += pl.normal * excess;
                     }
                 }
+                let h = &mut self.state.hands[k];
                 h.pose = Pose::new(p, r);
                 h.slipping = true;
                 any = true;
