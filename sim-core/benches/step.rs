@@ -3,7 +3,8 @@
 //! Each bench restores a saved mid-scenario state (so every sample starts from the same sheet,
 //! hands and gestures) and steps 10 frames while the scenario's gestures keep the hands moving.
 //! Groups: the default solver on four scenarios, the XPBD comparison solver, and the default
-//! solver at several mesh densities (cost against size). The full run-time-against-error report
+//! solver at several mesh densities (cost against size); and the rebuild of everything sized by
+//! the mesh, which each vertex insertion, edge flip or strip cut pays. The full run-time-against-error report
 //! (all scenarios, sweeps, percentiles, plot) is `cargo xtask bench-report`.
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
@@ -112,9 +113,19 @@ fn density(c: &mut Criterion) {
     }
 }
 
+/// Rebuilding everything sized by the mesh — what a vertex insertion, an edge flip or a strip
+/// cut costs on top of its frame (`sim/remesh.rs` adopts the new mesh the way a saved sheet is
+/// restored): a crumpled C5 state with its inserted vertices, restored.
+fn rebuild(c: &mut Criterion) {
+    let (cfg, saved, _) = snapshot("c5_full_crumple", 400, SimConfig::default());
+    c.bench_function("rebuild/c5_frame_400/restore", |b| {
+        b.iter(|| Sim::restore(cfg, &saved).expect("restore"))
+    });
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
-    targets = default_solver, xpbd_solver, density
+    targets = default_solver, xpbd_solver, density, rebuild
 }
 criterion_main!(benches);

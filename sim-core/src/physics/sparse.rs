@@ -154,7 +154,8 @@ impl BlockSystem {
             ..CholeskySymbolicParams::default()
         };
         // The fill-reducing ordering of the upper-triangle pattern (step 3)…
-        entries.sort_unstable_by_key(|e| (e.1, e.0));
+        let mut sorted = Vec::with_capacity(entries.len());
+        sort_by_column(&mut entries, &mut sorted, dim);
         let (col_ptr, row_idx, _) = csc_pattern(dim, &entries, nb);
         let symbolic_a = SymbolicSparseColMatRef::new_checked(dim, dim, &col_ptr, None, &row_idx);
         let ordered =
@@ -173,7 +174,7 @@ impl BlockSystem {
             let (r, c) = (perm_inv[e.0], perm_inv[e.1]);
             (e.0, e.1) = (r.min(c), r.max(c));
         }
-        entries.sort_unstable_by_key(|e| (e.1, e.0));
+        sort_by_column(&mut entries, &mut sorted, dim);
         let (col_ptr, row_idx, _) = csc_pattern(dim, &entries, nb);
         let symbolic_a = SymbolicSparseColMatRef::new_checked(dim, dim, &col_ptr, None, &row_idx);
         let symbolic = factorize_symbolic_cholesky(
@@ -186,7 +187,7 @@ impl BlockSystem {
         for e in &mut entries {
             (e.0, e.1) = (e.1, e.0);
         }
-        entries.sort_unstable_by_key(|e| (e.1, e.0));
+        sort_by_column(&mut entries, &mut sorted, dim);
         let (col_ptr, row_idx, scatter) = csc_pattern(dim, &entries, nb);
         debug_assert_eq!(
             symbolic.len_val(),
@@ -473,6 +474,39 @@ impl BlockSystem {
     }
 }
 
+/// Sorts scalar entries `(row, col, block, entry)` by column, then row: two stable counting
+/// sorts (by row, then by column; every index is below `dim`), a radix sort. It gives the
+/// order of a comparison sort on (col, row) in a fraction of its time: rebuilding the system
+/// is part of every vertex insertion's frame (`cargo bench -p sim-core --bench step --
+/// rebuild`). `scratch` is reused between calls.
+fn sort_by_column(
+    entries: &mut Vec<(usize, usize, u32, u8)>,
+    scratch: &mut Vec<(usize, usize, u32, u8)>,
+    dim: usize,
+) {
+    let mut next = vec![0usize; dim + 1];
+    scratch.clear();
+    scratch.resize(entries.len(), (0, 0, 0, 0));
+    for key in [
+        |e: &(usize, usize, u32, u8)| e.0,
+        |e: &(usize, usize, u32, u8)| e.1,
+    ] {
+        next.iter_mut().for_each(|c| *c = 0);
+        for e in entries.iter() {
+            next[key(e) + 1] += 1;
+        }
+        for k in 0..dim {
+            next[k + 1] += next[k];
+        }
+        for e in entries.iter() {
+            let slot = &mut next[key(e)];
+            scratch[*slot] = *e;
+            *slot += 1;
+        }
+        std::mem::swap(entries, scratch);
+    }
+}
+
 /// CSC column pointers, row indices and the block-entry → value-slot map of `entries`
 /// `(row, col, block, entry)` sorted by column then row.
 fn csc_pattern(
@@ -547,6 +581,25 @@ mod tests {
     /// Rank-one terms between vertices that share no block (the solve's Woodbury term) give
     /// the solution of the dense matrix with the terms added; a skipped (fixed) vertex is left
     /// out of them, and terms beyond the limit are refused.
+    #[test]
+    fn the_column_sort_orders_like_a_comparison_sort() {
+        // Distinct (row, col) pairs in a scrambled order, with their origin tags.
+        let dim = 37;
+        let mut entries: Vec<(usize, usize, u32, u8)> = (0..dim * dim)
+            .filter(|k| (k * 7919) % 5 != 0)
+            .map(|k| {
+                let k = (k * 7919) % (dim * dim);
+                (k % dim, k / dim, k as u32, (k % 9) as u8)
+            })
+            .collect();
+        let mut expected = entries.clone();
+        expected.sort_unstable_by_key(|e| (e.1, e.0));
+        let mut scratch = Vec::new();
+        sort_by_column(&mut entries, &mut scratch, dim);
+        assert_eq!(entries, expected);
+        assert!(entries.len() > dim * dim / 2);
+    }
+
     #[test]
     fn rank_one_terms_solve_like_the_dense_matrix() {
         let n = 6;

@@ -1,0 +1,72 @@
+//! Lists the slowest frames of a scene with their phases, iterations and whether the step
+//! adopted a new mesh (development probe for the p99 target).
+//!
+//! `cargo run --release -p sim-core --example frame_tail -- c5_full_crumple [TOP]`
+use sim_core::scenario;
+use sim_core::script_runner::ScriptRunner;
+use sim_core::sim::{FrameOutput, SimConfig};
+
+fn main() {
+    let name = std::env::args().nth(1).unwrap_or("c5_full_crumple".into());
+    let top: usize = std::env::args().nth(2).map_or(20, |s| s.parse().unwrap());
+    let (name, seed) = match name.split_once('@') {
+        Some((n, s)) => (n.to_string(), Some(s.parse::<u64>().unwrap())),
+        None => (name, None),
+    };
+    let script = scenario::get(&name).unwrap();
+    let mut cfg = SimConfig::default();
+    if let Some(s) = seed {
+        cfg.seed = s;
+    }
+    let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).unwrap();
+    let mut sim = runner.start(cfg);
+    sim.set_phase_timing(true);
+    let mut out = FrameOutput::default();
+    let mut rows = Vec::new();
+    let mut frame = 0u64;
+    loop {
+        let pending = sim.refinement_pending();
+        let t0 = std::time::Instant::now();
+        if !runner.drive(&mut sim, &mut out) {
+            break;
+        }
+        let ns = t0.elapsed().as_nanos() as u64;
+        frame += 1;
+        if out.stats.asleep {
+            continue;
+        }
+        let p = sim.phase_times();
+        rows.push((
+            ns,
+            frame,
+            pending,
+            p,
+            out.stats.iterations,
+            out.stats.substeps,
+        ));
+    }
+    let mut all: Vec<u64> = rows.iter().map(|r| r.0).collect();
+    all.sort_unstable();
+    let q = |f: f64| all[((all.len() - 1) as f64 * f).round() as usize] as f64 * 1e-6;
+    println!(
+        "{name}: {} awake frames, median {:.3} ms, p99 {:.3} ms, adoptions {}",
+        all.len(),
+        q(0.5),
+        q(0.99),
+        rows.iter().filter(|r| r.2).count()
+    );
+    rows.sort_by_key(|r| std::cmp::Reverse(r.0));
+    for (ns, f, pending, p, it, sub) in rows.iter().take(top) {
+        let other =
+            *ns as i64 - (p.self_contact_ns + p.physics_ns + p.geometry_ns + p.analysis_ns) as i64;
+        println!(
+            "frame {f:5} {:6.3} ms  adopt {pending:5}  self {:5.3} phys {:5.3} geom {:5.3} anal {:5.3} other {:5.3}  it {it} / {sub}",
+            *ns as f64 * 1e-6,
+            p.self_contact_ns as f64 * 1e-6,
+            p.physics_ns as f64 * 1e-6,
+            p.geometry_ns as f64 * 1e-6,
+            p.analysis_ns as f64 * 1e-6,
+            other as f64 * 1e-6
+        );
+    }
+}
