@@ -35,10 +35,22 @@
 //!    (A + U Uᵀ)⁻¹ b = y − Z (I + Uᵀ Z)⁻¹ Uᵀ y,    y = A⁻¹ b,  Z = A⁻¹ U
 //!    ```
 //!
-//!    that is, one more solve with the p columns of U as right-hand sides (blocked, one pass
-//!    through the factor) and a dense p × p Cholesky factorization of the capacitance matrix
-//!    I + Uᵀ Z (symmetric positive definite, as A is). Each u has at most 12 non-zeros (four
-//!    vertices × 3), kept in the factor's order.
+//!    With the factor split, A = L Lᵀ, the same identity needs only forward solves for U:
+//!
+//!    ```text
+//!    W = L⁻¹ U,   C = I + Wᵀ W,   x = L⁻ᵀ (L⁻¹ b − W C⁻¹ Wᵀ L⁻¹ b)
+//!    ```
+//!
+//!    that is, one forward pass through the factor with the p columns of U as right-hand
+//!    sides (blocked), the dense p × p product Wᵀ W and Cholesky factorization of the
+//!    capacitance matrix C (symmetric positive definite whatever U is), and the right-hand
+//!    side's forward and backward passes with the correction between them. The first version
+//!    solved Z = A⁻¹ U whole (forward and backward passes for every column) and formed
+//!    C = I + Uᵀ Z: that backward pass was a quarter of the linear solver's time in C5 and
+//!    S4. Split, the p99 frame of C5 fell from 4.48 to 4.11 ms and of S4 from 3.97 to 3.71 ms
+//!    (per-frame minimum of 3 replays, `REPLAYS=3 cargo run --release -p sim-core --example
+//!    frame_tail -- c5_full_crumple`, same host and hour); the medians did not move. Each u
+//!    has at most 12 non-zeros (four vertices × 3), kept in the factor's order.
 //!
 //! Each Newton iteration then only zeroes and fills the blocks, scatters them into the CSC
 //! values (rows/columns of kinematic — handle — vertices become identity rows, so the pattern
@@ -47,12 +59,15 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::linalg::matmul::matmul;
 use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Accum, Conj, MatMut, Par, Side};
 
 use crate::math::M3;
 
@@ -227,16 +242,17 @@ impl BlockSystem {
             factorizations: 0,
         };
         // Warm-up: the first numeric factorization of the process initialises lazily computed
-        // CPU data of the dense kernels (cache sizes, read from /sys), which allocates. Do it
-        // here, where allocating is allowed, so that no step ever does.
+        // CPU data of the dense kernels (cache sizes, read from /sys), and the first large
+        // dense product on a thread its packing memory, both of which allocate. Do it here,
+        // where allocating is allowed, so that no step ever does.
         let ones = vec![1.0; n];
         let free = vec![false; n];
         sys.clear();
         for i in 0..n {
             sys.add_diag(i as u32, &M3::identity());
         }
+        // …and of the Woodbury path.
         if n > 0 {
-            // …and of the Woodbury path's dense kernels.
             sys.add_rank_one(
                 &[0; 4],
                 &[1.0, 0.0, 0.0, 0.0],
@@ -245,6 +261,20 @@ impl BlockSystem {
                 &free,
             );
         }
+        // Dense products above faer's small-size threshold (16³) take the packing kernels,
+        // whose memory is allocated on a thread's first call and kept: the Woodbury products
+        // reach that size with a few contact pairs, the warm-up's single term does not.
+        let k = 17;
+        let (a, mut c) = (vec![1.0; k * k], vec![0.0; k * k]);
+        let am = faer::MatRef::from_column_major_slice(&a, k, k);
+        matmul(
+            MatMut::from_column_major_slice_mut(&mut c, k, k),
+            Accum::Replace,
+            am,
+            am,
+            1.0,
+            Par::Seq,
+        );
         let _ = sys.factorize_and_solve(&free, &ones, 0.0);
         sys.low_rank.clear();
         sys.factorizations = 0;
@@ -400,8 +430,7 @@ impl BlockSystem {
         let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
         let stack = MemStack::new(&mut self.mem);
         self.factorizations += 1;
-        let llt = self
-            .symbolic
+        self.symbolic
             .factorize_numeric_llt(
                 &mut self.l_values,
                 a,
@@ -415,58 +444,73 @@ impl BlockSystem {
         for (y, &k) in self.permuted_rhs.iter_mut().zip(&self.perm_fwd) {
             *y = self.rhs[k];
         }
-        let rhs = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
-        let stack = MemStack::new(&mut self.mem);
-        llt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
         let p = self.low_rank.len();
-        if p > 0 {
-            // Woodbury: (A + U Uᵀ)⁻¹ b = y − Z (I + Uᵀ Z)⁻¹ Uᵀ y, with y = A⁻¹ b, Z = A⁻¹ U.
-            let z = &mut self.lr_z[..dim * p];
-            z.iter_mut().for_each(|v| *v = 0.0);
-            for (col, u) in self.low_rank.iter().enumerate() {
-                for &(i, val) in u {
-                    z[col * dim + i as usize] += val;
-                }
+        // The factor's supernodes, to solve with L and Lᵀ separately (the pattern is stored
+        // permuted, so faer's factor has no ordering of its own).
+        let split = match (self.symbolic.raw(), self.symbolic.perm()) {
+            (SymbolicCholeskyRaw::Supernodal(sym), None) if p > 0 => {
+                Some(SupernodalLltRef::new(sym, &self.l_values))
             }
-            let zm = MatMut::from_column_major_slice_mut(z, dim, p);
+            _ => None,
+        };
+        let Some(l) = split else {
+            let llt = LltRef::new(&self.symbolic, &self.l_values);
+            let rhs = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
             let stack = MemStack::new(&mut self.mem);
-            llt.solve_in_place_with_conj(Conj::No, zm, Par::Seq, stack);
-            let cap = &mut self.lr_cap[..p * p];
-            for (a, ua) in self.low_rank.iter().enumerate() {
-                for b in 0..p {
-                    let zb = &z[b * dim..(b + 1) * dim];
-                    let dot: f64 = ua.iter().map(|&(i, val)| val * zb[i as usize]).sum();
-                    cap[b * p + a] = dot + if a == b { 1.0 } else { 0.0 };
-                }
-                self.lr_t[a] = ua
-                    .iter()
-                    .map(|&(i, val)| val * self.permuted_rhs[i as usize])
-                    .sum();
+            llt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
+            if p > 0 {
+                // An unsplit factor cannot happen with the forced supernodal, unordered
+                // analysis of `new`; the coupling is dropped rather than solved wrongly.
+                self.low_rank.clear();
             }
-            let stack = MemStack::new(&mut self.mem);
-            faer::linalg::cholesky::llt::factor::cholesky_in_place(
-                MatMut::from_column_major_slice_mut(cap, p, p),
-                LltRegularization::default(),
-                Par::Seq,
-                stack,
-                Default::default(),
-            )
-            .map_err(|_| SolveError::NotPositiveDefinite)?;
-            let stack = MemStack::new(&mut self.mem);
-            faer::linalg::cholesky::llt::solve::solve_in_place_with_conj(
-                faer::MatRef::from_column_major_slice(cap, p, p),
-                Conj::No,
-                MatMut::from_column_major_slice_mut(&mut self.lr_t[..p], p, 1),
-                Par::Seq,
-                stack,
-            );
-            for (col, &t) in self.lr_t[..p].iter().enumerate() {
-                let zc = &z[col * dim..(col + 1) * dim];
-                for (y, &zv) in self.permuted_rhs.iter_mut().zip(zc) {
-                    *y -= zv * t;
-                }
+            for (&y, &k) in self.permuted_rhs.iter().zip(&self.perm_fwd) {
+                self.rhs[k] = y;
+            }
+            return Ok(());
+        };
+        // Woodbury on the split factor A = L Lᵀ (module doc, step 5):
+        // y = L⁻¹ b, W = L⁻¹ U, C = I + Wᵀ W, x = L⁻ᵀ (y − W C⁻¹ Wᵀ y).
+        let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
+        l.l_solve_with_conj(Conj::No, y, Par::Seq, MemStack::new(&mut self.mem));
+        let w = &mut self.lr_z[..dim * p];
+        w.iter_mut().for_each(|v| *v = 0.0);
+        for (col, u) in self.low_rank.iter().enumerate() {
+            for &(i, val) in u {
+                w[col * dim + i as usize] += val;
             }
         }
+        let wm = MatMut::from_column_major_slice_mut(w, dim, p);
+        l.l_solve_with_conj(Conj::No, wm, Par::Seq, MemStack::new(&mut self.mem));
+        let w = faer::MatRef::from_column_major_slice(&self.lr_z[..dim * p], dim, p);
+        let cap = &mut self.lr_cap[..p * p];
+        let mut cm = MatMut::from_column_major_slice_mut(cap, p, p);
+        matmul(&mut cm, Accum::Replace, w.transpose(), w, 1.0, Par::Seq);
+        for k in 0..p {
+            cm[(k, k)] += 1.0;
+        }
+        let y = faer::MatRef::from_column_major_slice(&self.permuted_rhs, dim, 1);
+        let t = MatMut::from_column_major_slice_mut(&mut self.lr_t[..p], p, 1);
+        matmul(t, Accum::Replace, w.transpose(), y, 1.0, Par::Seq);
+        faer::linalg::cholesky::llt::factor::cholesky_in_place(
+            MatMut::from_column_major_slice_mut(cap, p, p),
+            LltRegularization::default(),
+            Par::Seq,
+            MemStack::new(&mut self.mem),
+            Default::default(),
+        )
+        .map_err(|_| SolveError::NotPositiveDefinite)?;
+        faer::linalg::cholesky::llt::solve::solve_in_place_with_conj(
+            faer::MatRef::from_column_major_slice(cap, p, p),
+            Conj::No,
+            MatMut::from_column_major_slice_mut(&mut self.lr_t[..p], p, 1),
+            Par::Seq,
+            MemStack::new(&mut self.mem),
+        );
+        let s = faer::MatRef::from_column_major_slice(&self.lr_t[..p], p, 1);
+        let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
+        matmul(y, Accum::Add, w, s, -1.0, Par::Seq);
+        let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
+        l.l_transpose_solve_with_conj(Conj::No, y, Par::Seq, MemStack::new(&mut self.mem));
         for (&y, &k) in self.permuted_rhs.iter().zip(&self.perm_fwd) {
             self.rhs[k] = y;
         }
