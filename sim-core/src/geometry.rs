@@ -200,10 +200,11 @@
 //!   pinch and snapping only within a fifth of the edge made 4–10 cuts per run, short edges
 //!   next to the held corners and a largest strain of 0.19 and 0.27 in two seeds (health
 //!   limit 0.1). As built, cuts happen only at a gesture's onset (frames 9–21, the first
-//!   compression passes): 0–2 per run; 23–35 singular points (median 27.5; without cuts 26,
-//!   23, 28, 29, 31, 25, 27, 31, the same median), largest strain ≤ 0.085 (without cuts one
-//!   frame of seed 4 reaches 0.18, about an inserted vertex), c_mean 0.010–0.044 % (measured
-//!   2026-11-27 after the contact coupling of `physics/sparse.rs`). The other scenes
+//!   compression passes): 0–2 per run; 23–35 singular points (median 27; without cuts 26,
+//!   23, 28, 29, 31, 25, 27, 35, median 27.5), largest strain ≤ 0.074 (without cuts one
+//!   frame of seed 4 reaches 0.18, about an inserted vertex), c_mean 0.010–0.043 % (measured
+//!   2026-11-27 after the contact coupling of `physics/sparse.rs` moved to the split factor).
+//!   The other scenes
 //!   keep their targets: the twist has no singular point and its largest strain falls from
 //!   0.045 to 0.006 (c_mean 0.015 → 0.007 %); the double bend C4 makes 2 in each of seeds 2–6
 //!   and its own (1–5 without cuts). Why it stays opt-in: every cut only adds triangles (S1
@@ -231,7 +232,7 @@
 //! | 2 ρ | ρ_bound = 1.2/cm bounds the ruling spacing from below; S_P density is [`crate::sheet::MeshConfig`] (≈ 130–190 triangles) |
 //! | 3 order | Fig. 16 order (analysis → junctions/classification → cones → isometry); classification runs first since it also decides which triangles are analysed |
 //! | 4 t_iso | per-frame budget = Table V: Phase I is capped at `IsometryConfig::phase1_max_iters` (40, stops early), not run to convergence |
-//! | 5 N_s | the target is ≥ 15 for the full crumple: 23–31 per seed over seeds 1–8 (median 27.5; without vertex insertion 22–29), the crumple cap stopping the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
+//! | 5 N_s | the target is ≥ 15 for the full crumple: 23–35 per seed over seeds 1–8 (median 27.5; without vertex insertion 22–29), the crumple cap stopping the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
 //! | 6 ε_blaschke | RMS distance √(e/N) compared with 0.5 % L_paper |
 //! | 7 λ | c_t = 1 − λ_min |
 //! | 8 fibre damage | interior singular vertices only, sign of the fold at creation, D = 10 applied |

@@ -103,9 +103,10 @@ fn check_frame(g: &GeometryFrame, sim: &Sim) {
 /// leaves is chaotic: the seeded crumple jitter, or any change to the step, moves where the
 /// sheet buckles first and how far the squeeze gets before it would pass through itself
 /// (gesture_rig.rs "Crumple cap": it stops at 0.70–0.98 of its range). Measured over seeds
-/// 1–8 with the contact pairs coupled in the Newton solve (physics/sparse.rs) and hands that
-/// do not slip into the table (2026-11-27): 26, 23, 28, 29, 31, 25, 27, 31 (median 27.5);
-/// the scene's own seed (5) leaves 31. With compressed flat edges flipped (geometry.rs step
+/// 1–8 with the contact pairs coupled in the Newton solve (physics/sparse.rs, its Woodbury
+/// correction on the split factor) and hands that do not slip into the table (2026-11-27):
+/// 26, 23, 28, 29, 31, 25, 27, 35 (median 27.5; seed 8 left 31 before the split factor
+/// changed the solve's rounding); the scene's own seed (5) leaves 31. With compressed flat edges flipped (geometry.rs step
 /// 2, 2026-11-26): 26, 26, 28, 35, 21, 30, 27, 39 (median 27.5). Before flips, with the squeeze stopping at 1 mm and the contact stiffened where an
 /// undone frame crossed: 30, 38, 28, 28, 32, 30, 19, 39 (median 30). With the stop at 4 mm: 26, 30, 22, 25, 23, 23, 17, 27 (median 24.5); without
 /// insertion 24, 20, 17, 19, 20, 17, 13, 22; before exact self-contact distances: 22, 21, 17, 18, 20,
