@@ -62,12 +62,24 @@ fn main() {
     let mut all: Vec<u64> = rows.iter().map(|r| r.0).collect();
     all.sort_unstable();
     let q = |f: f64| all[((all.len() - 1) as f64 * f).round() as usize] as f64 * 1e-6;
+    // A mesh change's own cost: the frame minus its phases (the rebuild runs before them).
+    let adoption_ms: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.2)
+        .map(|r| {
+            let p = r.3;
+            (r.0 as f64 - (p.self_contact_ns + p.physics_ns + p.geometry_ns + p.analysis_ns) as f64)
+                * 1e-6
+        })
+        .collect();
     println!(
-        "{name}: {} awake frames, median {:.3} ms, p99 {:.3} ms, adoptions {}",
+        "{name}: {} awake frames, median {:.3} ms, p99 {:.3} ms, max {:.3} ms, adoptions {} costing {:.3} ms on average",
         all.len(),
         q(0.5),
         q(0.99),
-        rows.iter().filter(|r| r.2).count()
+        q(1.0),
+        adoption_ms.len(),
+        adoption_ms.iter().sum::<f64>() / adoption_ms.len().max(1) as f64
     );
     rows.sort_by_key(|r| std::cmp::Reverse(r.0));
     for (ns, f, pending, p, it, sub) in rows.iter().take(top) {

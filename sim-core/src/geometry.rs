@@ -961,6 +961,14 @@ fn layer_seed(seed: u64) -> u64 {
 impl GeometryLayer {
     /// A layer for `sp` (a new, flat sheet: every triangle flat, no singular vertex).
     pub fn new(sp: &PhysMesh, cfg: GeometryConfig, mat: &PaperMaterial, seed: u64) -> Self {
+        let mut s = Self::unpublished(sp, cfg, mat, seed);
+        s.refresh(sp);
+        s
+    }
+
+    /// [`Self::new`] without publishing the current shape: for a layer whose state is
+    /// restored next ([`Self::restore`] publishes it then).
+    fn unpublished(sp: &PhysMesh, cfg: GeometryConfig, mat: &PaperMaterial, seed: u64) -> Self {
         let cfg = cfg.sanitized();
         let (nv, nt, ne) = (sp.num_vertices(), sp.num_triangles(), sp.num_edges());
         let (mut lo, mut hi) = (V2::repeat(f64::MAX), V2::repeat(f64::MIN));
@@ -1065,7 +1073,6 @@ impl GeometryLayer {
         for &v in &sp.singular {
             s.is_singular[v as usize] = true;
         }
-        s.refresh(sp);
         s
     }
 
@@ -2172,7 +2179,7 @@ impl GeometryLayer {
             .iter()
             .map(|&t| self.refractory_until[t as usize])
             .collect();
-        let mut g = Self::new(sp, self.cfg, mat, seed);
+        let mut g = Self::unpublished(sp, self.cfg, mat, seed);
         g.eps_c = self.eps_c;
         g.sigma_m = self.sigma_m;
         g.restore(sp, sg, Some(&saved))?;

@@ -60,12 +60,14 @@ impl Sim {
         let room = sp.num_vertices() < cap_v && sp.num_triangles() + 2 <= cap_t;
         // An insertion that makes the sheet cross itself where it did not (the new vertex's
         // triangles or a flipped edge through a layer of a fold) is refused: the pass-through
-        // guard would otherwise undo every following frame from a crossed start.
-        let crossed_before = room && self.proximity.any_crossing(sp);
+        // guard would otherwise undo every following frame from a crossed start. The old
+        // mesh is checked only when the new one crosses (one sweep fewer per insertion).
         let inserted = room
             .then(|| refine::insert_vertex_near(sp, p.sampled2).ok())
             .flatten()
-            .filter(|(ins, _)| crossed_before || !self.proximity.any_crossing(&ins.mesh))
+            .filter(|(ins, _)| {
+                !self.proximity.any_crossing(&ins.mesh) || self.proximity.any_crossing(sp)
+            })
             .and_then(|(ins, _)| {
                 let Insertion {
                     mesh,
@@ -150,7 +152,8 @@ impl Sim {
     fn adopt_uncrossed(&mut self, mesh: PhysMesh, tri_parent: &[u32]) -> bool {
         self.geometry.start_events_early();
         self.wake();
-        if !self.proximity.any_crossing(&self.sheet.sp) && self.proximity.any_crossing(&mesh) {
+        // The old mesh is checked only when the new one crosses (one sweep fewer).
+        if self.proximity.any_crossing(&mesh) && !self.proximity.any_crossing(&self.sheet.sp) {
             return false;
         }
         if self.adopt_mesh(mesh, tri_parent).is_err() {
