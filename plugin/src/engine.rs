@@ -415,6 +415,10 @@ impl Engine {
         let n = left.len().min(right.len());
         match &mut self.host {
             Host::Lockstep(l) => {
+                // The sheet was built on another thread than this one: the solver's dense
+                // kernels make their lazy first-use allocations on a thread's first call
+                // (once; a no-op afterwards), permitted offline like a rebuild.
+                nice_plug::util::permit_alloc(sim_core::warm_up_thread);
                 let mut pos = 0usize;
                 loop {
                     let end = self.frames.end(l.next_frame);

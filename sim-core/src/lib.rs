@@ -58,6 +58,7 @@ pub use collision::VertexContact;
 pub use control::{Command, GestureParam, GrabSlot, Material, SheetSize};
 pub use geometry::{GeometryConfig, GeometryFrame};
 pub use mesh_snapshot::MeshSnapshot;
+pub use physics::sparse::warm_up_thread;
 pub use physics::{SolverConfig, SolverKind};
 pub use room::RoomConfig;
 pub use sheet::MeshConfig;

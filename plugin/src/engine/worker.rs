@@ -184,6 +184,9 @@ fn run(
     let mut was_awake = false;
     let mut frames_since_publish = 0u64;
     let mut stepped_total = 0u64;
+    // The sheet was built on another thread: the solver's dense kernels make their lazy
+    // first-use allocations now, not in the first step that needs them.
+    sim_core::warm_up_thread();
 
     while !shared.stop.load(Ordering::Acquire) {
         while pending.len() < pending.capacity() {

@@ -69,7 +69,23 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Accum, Conj, MatMut, Par, Side};
 
+use std::cell::Cell;
+
 use crate::math::M3;
+
+thread_local! {
+    /// Whether the dense kernels were run once on this thread ([`BlockSystem::warm_up`]).
+    static THREAD_WARM: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Runs the linear solver's dense kernels once on the current thread, so that their lazy
+/// first-use allocations happen now: for a thread that will step a sheet built on another one
+/// (the plugin's simulation worker). Allocates; a no-op after the first call on a thread.
+pub fn warm_up_thread() {
+    if !THREAD_WARM.with(Cell::get) {
+        drop(BlockSystem::new(2, [[0, 1]]));
+    }
+}
 
 /// Rank-one terms the solve takes through the Woodbury identity (see [`BlockSystem::add_rank_one`]).
 pub const LOW_RANK_CAPACITY: usize = 64;
@@ -241,19 +257,32 @@ impl BlockSystem {
             lr_t: vec![0.0; LOW_RANK_CAPACITY],
             factorizations: 0,
         };
-        // Warm-up: the first numeric factorization of the process initialises lazily computed
-        // CPU data of the dense kernels (cache sizes, read from /sys), and the first large
-        // dense product on a thread its packing memory, both of which allocate. Do it here,
-        // where allocating is allowed, so that no step ever does.
+        if !THREAD_WARM.with(Cell::get) {
+            sys.warm_up();
+            THREAD_WARM.with(|w| w.set(true));
+        }
+        sys
+    }
+
+    /// Runs every dense kernel of the factorization and the solve once, on the current thread.
+    /// The first numeric factorization of the process initialises lazily computed CPU data of
+    /// the dense kernels (cache sizes, read from /sys), and the first large dense product on a
+    /// thread the product's packing memory (kept per thread, its size fixed by the cache
+    /// sizes): both allocate. Done by the first system built on a thread, where allocating is
+    /// allowed, so that no step on it ever does (a thread that steps a sheet built elsewhere
+    /// calls [`warm_up_thread`] first). The values are overwritten by the first real
+    /// factorization.
+    fn warm_up(&mut self) {
+        let n = self.n;
         let ones = vec![1.0; n];
         let free = vec![false; n];
-        sys.clear();
+        self.clear();
         for i in 0..n {
-            sys.add_diag(i as u32, &M3::identity());
+            self.add_diag(i as u32, &M3::identity());
         }
-        // …and of the Woodbury path.
+        // …the Woodbury path…
         if n > 0 {
-            sys.add_rank_one(
+            self.add_rank_one(
                 &[0; 4],
                 &[1.0, 0.0, 0.0, 0.0],
                 &nalgebra::Vector3::x(),
@@ -261,9 +290,10 @@ impl BlockSystem {
                 &free,
             );
         }
-        // Dense products above faer's small-size threshold (16³) take the packing kernels,
-        // whose memory is allocated on a thread's first call and kept: the Woodbury products
-        // reach that size with a few contact pairs, the warm-up's single term does not.
+        let _ = self.factorize_and_solve(&free, &ones, 0.0);
+        // …and a dense product above faer's small-size threshold (16³), which takes the
+        // packing kernels: the Woodbury products reach that size with a few contact pairs, the
+        // supernodes of a large mesh too, the single term above does not.
         let k = 17;
         let (a, mut c) = (vec![1.0; k * k], vec![0.0; k * k]);
         let am = faer::MatRef::from_column_major_slice(&a, k, k);
@@ -275,11 +305,9 @@ impl BlockSystem {
             1.0,
             Par::Seq,
         );
-        let _ = sys.factorize_and_solve(&free, &ones, 0.0);
-        sys.low_rank.clear();
-        sys.factorizations = 0;
-        sys.rhs.iter_mut().for_each(|r| *r = 0.0);
-        sys
+        self.low_rank.clear();
+        self.factorizations = 0;
+        self.rhs.iter_mut().for_each(|r| *r = 0.0);
     }
 
     /// Rank-one terms held.
