@@ -604,6 +604,52 @@ fn csc_pattern(
 mod tests {
     use super::*;
 
+    /// A system on `pairs` with diagonal blocks `diag(i)·I` and every off-diagonal block `off`,
+    /// and the same matrix dense.
+    fn system_and_dense(
+        n: usize,
+        pairs: &[[u32; 2]],
+        diag: impl Fn(usize) -> f64,
+        off: M3,
+    ) -> (BlockSystem, nalgebra::DMatrix<f64>) {
+        let mut s = BlockSystem::new(n, pairs.iter().copied());
+        s.clear();
+        let mut dense = nalgebra::DMatrix::<f64>::zeros(3 * n, 3 * n);
+        for i in 0..n {
+            let d = M3::identity() * diag(i);
+            s.add_diag(i as u32, &d);
+            dense.view_mut((3 * i, 3 * i), (3, 3)).copy_from(&d);
+        }
+        for p in pairs {
+            s.add_off(s.off_block(p[0], p[1]), &off);
+            let (i, j) = (3 * p[0] as usize, 3 * p[1] as usize);
+            dense.view_mut((i, j), (3, 3)).copy_from(&off);
+            dense.view_mut((j, i), (3, 3)).copy_from(&off.transpose());
+        }
+        (s, dense)
+    }
+
+    /// The dense rank-one term c (w ⊗ n)(w ⊗ n)ᵀ of `BlockSystem::add_rank_one`, without the
+    /// vertices marked in `skip`.
+    fn dense_term(
+        dim: usize,
+        v: &[u32; 4],
+        w: &[f64; 4],
+        nrm: &nalgebra::Vector3<f64>,
+        c: f64,
+        skip: &[bool],
+    ) -> nalgebra::DMatrix<f64> {
+        let mut u = nalgebra::DVector::<f64>::zeros(dim);
+        for (&vi, &wi) in v.iter().zip(w) {
+            if !skip[vi as usize] {
+                for r in 0..3 {
+                    u[3 * vi as usize + r] += c.sqrt() * wi * nrm[r];
+                }
+            }
+        }
+        &u * u.transpose()
+    }
+
     #[test]
     fn solves_a_small_spd_chain_and_decouples_fixed_rows() {
         // 4 vertices in a chain: blocks (0,1), (1,2), (2,3).
@@ -690,21 +736,8 @@ mod tests {
                 }
             }
         }
-        let mut s = BlockSystem::new(n, pairs.clone());
-        s.clear();
-        let mut dense = nalgebra::DMatrix::<f64>::zeros(3 * n, 3 * n);
-        for i in 0..n {
-            let d = M3::identity() * (5.0 + (i % 7) as f64 * 0.1);
-            s.add_diag(i as u32, &d);
-            dense.view_mut((3 * i, 3 * i), (3, 3)).copy_from(&d);
-        }
         let off = M3::new(-1.0, 0.1, 0.0, 0.1, -0.9, 0.1, 0.0, 0.1, -1.0) * 0.5;
-        for p in &pairs {
-            s.add_off(s.off_block(p[0], p[1]), &off);
-            let (i, j) = (3 * p[0] as usize, 3 * p[1] as usize);
-            dense.view_mut((i, j), (3, 3)).copy_from(&off);
-            dense.view_mut((j, i), (3, 3)).copy_from(&off.transpose());
-        }
+        let (mut s, mut dense) = system_and_dense(n, &pairs, |i| 5.0 + (i % 7) as f64 * 0.1, off);
         let fixed = vec![false; n];
         let base = dense.clone();
         let mut state = 12345u64;
@@ -720,13 +753,7 @@ mod tests {
             let nrm = nalgebra::Vector3::new(0.3, -0.5, 0.8).normalize();
             let c = 10.0 + next(50) as f64;
             assert!(s.add_rank_one(&v, &w, &nrm, c, &fixed));
-            let mut u = nalgebra::DVector::<f64>::zeros(3 * n);
-            for (&vi, &wi) in v.iter().zip(&w) {
-                for r in 0..3 {
-                    u[3 * vi as usize + r] += c.sqrt() * wi * nrm[r];
-                }
-            }
-            dense += &u * u.transpose();
+            dense += dense_term(3 * n, &v, &w, &nrm, c, &fixed);
         }
         let rhs: Vec<f64> = (0..3 * n).map(|k| (k as f64 * 0.37).sin()).collect();
         s.rhs.copy_from_slice(&rhs);
@@ -744,21 +771,8 @@ mod tests {
     fn rank_one_terms_solve_like_the_dense_matrix() {
         let n = 6;
         let chain: Vec<[u32; 2]> = (0..n as u32 - 1).map(|i| [i, i + 1]).collect();
-        let mut s = BlockSystem::new(n, chain.clone());
-        s.clear();
-        let mut dense = nalgebra::DMatrix::<f64>::zeros(3 * n, 3 * n);
-        for i in 0..n {
-            let d = M3::identity() * (3.0 + i as f64 * 0.1);
-            s.add_diag(i as u32, &d);
-            dense.view_mut((3 * i, 3 * i), (3, 3)).copy_from(&d);
-        }
         let off = M3::new(-1.0, 0.1, 0.0, 0.2, -0.9, 0.1, 0.0, 0.0, -1.0) * 0.5;
-        for p in &chain {
-            s.add_off(s.off_block(p[0], p[1]), &off);
-            let (i, j) = (3 * p[0] as usize, 3 * p[1] as usize);
-            dense.view_mut((i, j), (3, 3)).copy_from(&off);
-            dense.view_mut((j, i), (3, 3)).copy_from(&off.transpose());
-        }
+        let (mut s, mut dense) = system_and_dense(n, &chain, |i| 3.0 + i as f64 * 0.1, off);
         // Vertex 4 is fixed: its rows decouple.
         let fixed = [false, false, false, false, true, false];
         let terms: [([u32; 4], [f64; 4], nalgebra::Vector3<f64>, f64); 3] = [
@@ -790,15 +804,7 @@ mod tests {
             if !added {
                 continue;
             }
-            let mut u = nalgebra::DVector::<f64>::zeros(3 * n);
-            for (&vi, &wi) in v.iter().zip(w) {
-                if !fixed[vi as usize] {
-                    for r in 0..3 {
-                        u[3 * vi as usize + r] += c.sqrt() * wi * nrm[r];
-                    }
-                }
-            }
-            dense += &u * u.transpose();
+            dense += dense_term(3 * n, v, w, nrm, *c, &fixed);
         }
         assert_eq!(s.low_rank_len(), 2);
         // The fixed vertex: identity-scaled row and column.
