@@ -1,7 +1,8 @@
 //! Lists the slowest frames of a scene with their phases, iterations and whether the step
 //! adopted a new mesh (development probe for the p99 target).
 //!
-//! `cargo run --release -p sim-core --example frame_tail -- c5_full_crumple [TOP]`
+//! `cargo run --release -p sim-core --example frame_tail -- c5_full_crumple [TOP]` (also prints
+//! each phase's median)
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, PhaseTimes, SimConfig};
@@ -80,6 +81,19 @@ fn main() {
         q(1.0),
         adoption_ms.len(),
         adoption_ms.iter().sum::<f64>() / adoption_ms.len().max(1) as f64
+    );
+    // Each phase's median over the awake frames (phases of each frame's fastest replay).
+    let phase_median = |f: &dyn Fn(&PhaseTimes) -> u64| {
+        let mut v: Vec<u64> = rows.iter().map(|r| f(&r.3)).collect();
+        v.sort_unstable();
+        v[v.len() / 2] as f64 * 1e-6
+    };
+    println!(
+        "phase medians: self {:.3} phys {:.3} geom {:.3} anal {:.3} ms",
+        phase_median(&|p| p.self_contact_ns),
+        phase_median(&|p| p.physics_ns),
+        phase_median(&|p| p.geometry_ns),
+        phase_median(&|p| p.analysis_ns)
     );
     rows.sort_by_key(|r| std::cmp::Reverse(r.0));
     for (ns, f, pending, p, it, sub) in rows.iter().take(top) {

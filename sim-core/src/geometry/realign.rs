@@ -303,12 +303,19 @@ impl GeometryLayer {
                 .unwrap_or(f);
             if a_wider { (f, u) } else { (u, f) }
         };
-        // The fewest rulings that leave no gap wider than 1/ρ on either side.
+        // The fewest rulings that leave no gap wider than 1/ρ on either side. `placed[j - 1]`
+        // keeps place(j, k) for the k tried last, so the chosen k's are not placed twice.
         let (len_a, len_b) = ((qa.0 - p.a2).norm(), (qb.0 - p.b2).norm());
-        let fits = |k: usize| {
+        let mut placed = [(0.0, 0.0); MAX_INSERTED_PER_GAP];
+        let fits = |k: usize, placed: &mut [(f64, f64)]| {
             let (mut prev_a, mut prev_b) = (0.0, 0.0);
             (1..=k + 1).all(|j| {
-                let (ua, ub) = if j > k { (1.0, 1.0) } else { place(j, k) };
+                let (ua, ub) = if j > k {
+                    (1.0, 1.0)
+                } else {
+                    placed[j - 1] = place(j, k);
+                    placed[j - 1]
+                };
                 let ok = (ua - prev_a) * len_a <= 1.0 / rho && (ub - prev_b) * len_b <= 1.0 / rho;
                 (prev_a, prev_b) = (ua, ub);
                 ok
@@ -316,11 +323,21 @@ impl GeometryLayer {
         };
         let mut k = k;
         let k_max = (k + 2).min(MAX_INSERTED_PER_GAP).min(budget);
-        while k < k_max && !fits(k) {
+        let complete = loop {
+            if k >= k_max {
+                break false;
+            }
+            if fits(k, &mut placed) {
+                break true;
+            }
             k += 1;
+        };
+        if !complete {
+            for (j, slot) in placed.iter_mut().enumerate().take(k) {
+                *slot = place(j + 1, k);
+            }
         }
-        for j in 1..=k {
-            let (ua, ub) = place(j, k);
+        for &(ua, ub) in &placed[..k] {
             let a2 = p.a2 * (1.0 - ua) + qa.0 * ua;
             let b2 = p.b2 * (1.0 - ub) + qb.0 * ub;
             // Traced on S_P through the point where its line crosses the segment between
