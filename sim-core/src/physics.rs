@@ -228,6 +228,10 @@ pub struct SubstepReport {
     pub halvings: u32,
     /// True if the solver had to fall back (non-finite state, failed factorization).
     pub recovered: bool,
+    /// Newton: some free vertices were pinned for the rest of the substep, where every step
+    /// the line search tried would have turned their triangle over
+    /// ([`newton`] module doc, "Pinning").
+    pub pinned: bool,
 }
 
 /// State frozen at the start of a substep, shared by both solvers.

@@ -176,6 +176,9 @@ pub struct FrameStats {
     pub recoveries: u32,
     /// Newton line-search halvings summed over the frame's substeps.
     pub halvings: u32,
+    /// Substeps in which the Newton solve pinned free vertices whose triangle every step
+    /// would have turned over (physics/newton.rs "Pinning"); 0 in the seed scenes.
+    pub pinned_substeps: u32,
     /// Frames in a row (this one included) whose motion was undone because it would have
     /// passed the sheet through itself (0 = this frame went through; gesture_rig.rs
     /// "Crumple cap").
@@ -710,7 +713,7 @@ impl Sim {
         );
         let n_sub = self.cfg.solver.substeps;
         let h = dt / f64::from(n_sub);
-        let (mut iterations, mut recoveries, mut halvings) = (0u32, 0u32, 0u32);
+        let (mut iterations, mut recoveries, mut halvings, mut pinned) = (0u32, 0u32, 0u32, 0u32);
         for s in 1..=n_sub {
             let frac = f64::from(s) / f64::from(n_sub);
             self.rig
@@ -728,6 +731,7 @@ impl Sim {
             );
             iterations += r.iterations;
             halvings += r.halvings;
+            pinned += u32::from(r.pinned);
             recoveries += u32::from(r.recovered);
             self.limit_penetration();
         }
@@ -808,6 +812,7 @@ impl Sim {
         }
         out.stats = self.stats(false, n_sub, iterations, recoveries);
         out.stats.halvings = halvings;
+        out.stats.pinned_substeps = pinned;
     }
 
     fn update_contacts(&mut self) {
@@ -854,6 +859,7 @@ impl Sim {
             iterations,
             recoveries,
             halvings: 0,
+            pinned_substeps: 0,
             undo_streak: self.rig.state.undo_streak,
         }
     }

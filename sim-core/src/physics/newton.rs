@@ -15,6 +15,7 @@
 //!     α = 1; while E(x + αΔ) > E(x) + 10⁻⁴ α gᵀΔ
 //!                  or a triangle of x + αΔ is turned by > 90° from x_n: α ← α/2   (≤ 8 halvings)
 //!     (no acceptable α: retry with H + ρ M/h², ρ = 10, 1000 — Levenberg–Marquardt)
+//!     (still none: pin the free vertices of the triangles the last trial turned over, go on)
 //!     x ← x + αΔ;  stop when max |αΔ_i| < tolerance
 //! v = (x − x_n) / h
 //! ```
@@ -27,6 +28,22 @@
 //! reaches at 200 frames/s except in a numerical blow-up); together with the collapse barrier
 //! of the membrane this keeps the mesh from inverting. An iteration cap below convergence (the usual real-time setting) still returns a
 //! state of lower energy than the start.
+//!
+//! **Pinning** (impl. choice). The line search scales the whole step, so one triangle that
+//! every trial would turn over stops the solve for the entire sheet. Under the hostile stress
+//! stream (`sim-stress --seed 2 --sessions 1 --frames 10000`, frame 6453) that happened to a
+//! triangle already turned 89.5° from the substep's start, after a frame in which repeated
+//! pass-through undos had left the sheet moving at 3.6 m/s: the solve stalled after 5
+//! iterations, with 70 halvings, and the sheet stayed where it stalled — held vertices at their
+//! targets, their free neighbours behind — with a triangle next to a hand stretched to 2.07×
+//! its length (strain 1.065, bound 1.0). So when the Levenberg–Marquardt retries fail too,
+//! the free vertices of the triangles that the shortest damped trial turns over are held
+//! where they are for the rest of the substep. The next iteration solves for the other
+//! vertices, which then follow the hands: the same frame ends at strain 0.699, and the session
+//! passes. A stall whose shortest trial turns nothing over (a failure of the energy test
+//! alone) still ends the substep as before. Frames that never stall are unchanged: the 12 seed
+//! scenes are bit-identical with and without pinning (`scenario_probe` hashes), and none of
+//! them pins a vertex. Regression test: `sim-core/tests/stall_pinning.rs`.
 
 use crate::collision::{
     CONTACT_SKIN_M, HARD_CONTACT_FACTOR, MAX_PENETRATION_M, Obstacles, STICK_SPEED_M_S,
@@ -58,6 +75,9 @@ pub struct NewtonSolver {
     grad: Vec<V3>,
     x_trial: Vec<V3>,
     diag_fixed: Vec<f64>,
+    /// Vertices held in place for the rest of the substep: the kinematic ones, and free ones
+    /// pinned where a stalled line search would turn their triangle over (module doc).
+    held: Vec<bool>,
 }
 
 /// Per-substep scalars.
@@ -99,6 +119,7 @@ impl NewtonSolver {
             grad: vec![V3::zeros(); n],
             x_trial: vec![V3::zeros(); n],
             diag_fixed: vec![1.0; n],
+            held: vec![false; n],
         }
     }
 
@@ -152,26 +173,25 @@ impl NewtonSolver {
             .set_low_rank_limit(cfg.contact_coupling_pairs as usize);
         let mut report = SubstepReport::default();
         let mut e0 = f64::NAN;
+        // `held` is moved out for the loop (the assembly borrows the solver mutably).
+        let mut held = std::mem::take(&mut self.held);
+        held.copy_from_slice(kin.fixed);
         'newton: for _ in 0..cfg.iterations {
             report.iterations += 1;
-            let e = self.assemble(mesh, kin.fixed, ctx, e0.is_nan());
+            let e = self.assemble(mesh, &held, ctx, e0.is_nan());
             let e = if e0.is_nan() { e } else { e0 };
             // Newton step; if the line search finds no acceptable step along it (the PSD
             // approximation underestimated the curvature), retry with Levenberg–Marquardt
             // damping (H + ρ M/h²), which shortens the step towards scaled gradient descent.
             let mut reg = 0.0;
             for _attempt in 0..=MAX_LM_RETRIES {
-                for i in 0..n {
-                    let g = if kin.fixed[i] {
-                        V3::zeros()
-                    } else {
-                        -self.grad[i]
-                    };
+                for (i, &fixed) in held.iter().enumerate() {
+                    let g = if fixed { V3::zeros() } else { -self.grad[i] };
                     self.sys.rhs[3 * i..3 * i + 3].copy_from_slice(g.as_slice());
                 }
                 if self
                     .sys
-                    .factorize_and_solve(kin.fixed, &self.diag_fixed, reg)
+                    .factorize_and_solve(&held, &self.diag_fixed, reg)
                     .is_err()
                 {
                     report.recovered = true;
@@ -179,10 +199,7 @@ impl NewtonSolver {
                 }
                 let mut slope = 0.0;
                 let mut max_step: f64 = 0.0;
-                for i in 0..n {
-                    if kin.fixed[i] {
-                        continue;
-                    }
+                for (i, _) in held.iter().enumerate().filter(|(_, f)| !**f) {
                     let d = V3::new(
                         self.sys.rhs[3 * i],
                         self.sys.rhs[3 * i + 1],
@@ -201,8 +218,8 @@ impl NewtonSolver {
                 }
                 let mut alpha = 1.0;
                 for _ in 0..=MAX_HALVINGS {
-                    for i in 0..n {
-                        self.x_trial[i] = if kin.fixed[i] {
+                    for (i, &fixed) in held.iter().enumerate() {
+                        self.x_trial[i] = if fixed {
                             mesh.pos[i]
                         } else {
                             mesh.pos[i]
@@ -214,7 +231,7 @@ impl NewtonSolver {
                         };
                     }
                     if !Self::flips_new(mesh, &frame.x_n, &mesh.pos, &self.x_trial) {
-                        let e_new = self.energy(mesh, &self.x_trial, kin.fixed, ctx);
+                        let e_new = self.energy(mesh, &self.x_trial, &held, ctx);
                         if e_new <= e + 1e-4 * alpha * slope {
                             mesh.pos.copy_from_slice(&self.x_trial);
                             e0 = e_new;
@@ -229,14 +246,42 @@ impl NewtonSolver {
                 }
                 reg = if reg == 0.0 { 10.0 } else { reg * 100.0 };
             }
-            // No acceptable step even with damping: keep the current iterate.
+            // No acceptable step even with damping. Where the shortest damped step still turns
+            // a triangle over, that triangle's free vertices stay where they are for the rest
+            // of the substep and the others go on (module doc, "Pinning"); else keep the
+            // current iterate.
+            if Self::pin_turning(mesh, &frame.x_n, &self.x_trial, &mut held) {
+                report.pinned = true;
+                e0 = f64::NAN;
+                continue;
+            }
             break;
         }
+        self.held = held;
         let inv_h = 1.0 / h;
         for i in 0..n {
             mesh.vel[i] = (mesh.pos[i] - frame.x_n[i]) * inv_h;
         }
         report
+    }
+
+    /// Holds the free vertices of every triangle that is not turned over (more than 90°) from
+    /// `x_n` in `cur` but is in `trial`; returns whether it held any that was free.
+    fn pin_turning(mesh: &PhysMesh, x_n: &[V3], trial: &[V3], held: &mut [bool]) -> bool {
+        let mut pinned = false;
+        for t in &mesh.triangles {
+            let [i, j, k] = t.map(|v| v as usize);
+            let n0 = (x_n[j] - x_n[i]).cross(&(x_n[k] - x_n[i]));
+            let cur = (mesh.pos[j] - mesh.pos[i]).cross(&(mesh.pos[k] - mesh.pos[i]));
+            let nt = (trial[j] - trial[i]).cross(&(trial[k] - trial[i]));
+            if n0.dot(&nt) <= 0.0 && n0.dot(&cur) > 0.0 {
+                for v in [i, j, k] {
+                    pinned |= !held[v];
+                    held[v] = true;
+                }
+            }
+        }
+        pinned
     }
 
     /// True if some triangle's normal turns by more than 90° between `a` and `b`.
@@ -554,6 +599,47 @@ mod tests {
             assert!((x.z - 0.75).abs() < 2e-5, "z {}", x.z);
             assert!(v.norm() < 1e-3, "v {v:?}");
         }
+    }
+
+    #[test]
+    fn pinning_holds_the_vertices_of_the_triangles_a_trial_turns_over() {
+        let (mesh, ..) = setup(false);
+        let x_n = mesh.pos.clone();
+        // Vertex 0 (a corner) pushed in the plane beyond the far edge of its triangles: those
+        // turn over, nothing else does.
+        let mut trial = mesh.pos.clone();
+        trial[0] += V3::new(0.05, 0.05, 0.0);
+        let turned: Vec<usize> = (0..mesh.num_triangles())
+            .filter(|&t| {
+                let [i, j, k] = mesh.triangles[t].map(|v| v as usize);
+                let n0 = (x_n[j] - x_n[i]).cross(&(x_n[k] - x_n[i]));
+                let nt = (trial[j] - trial[i]).cross(&(trial[k] - trial[i]));
+                n0.dot(&nt) <= 0.0
+            })
+            .collect();
+        assert!(!turned.is_empty());
+        let mut held = vec![false; mesh.num_vertices()];
+        assert!(NewtonSolver::pin_turning(&mesh, &x_n, &trial, &mut held));
+        for (v, &h) in held.iter().enumerate() {
+            let in_turned = turned
+                .iter()
+                .any(|&t| mesh.triangles[t].contains(&(v as u32)));
+            assert_eq!(h, in_turned, "vertex {v}");
+        }
+        // Nothing new to pin the second time.
+        assert!(!NewtonSolver::pin_turning(&mesh, &x_n, &trial, &mut held));
+        // A triangle the current iterate has already turned over (a kinematic move did) does
+        // not count: with the current positions equal to the trial, nothing is pinned.
+        let mut turned_mesh = mesh.clone();
+        turned_mesh.pos.clone_from(&trial);
+        let mut none = vec![false; mesh.num_vertices()];
+        assert!(!NewtonSolver::pin_turning(
+            &turned_mesh,
+            &x_n,
+            &trial,
+            &mut none
+        ));
+        assert!(none.iter().all(|&h| !h));
     }
 
     #[test]
