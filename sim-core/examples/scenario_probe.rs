@@ -4,7 +4,8 @@
 //!
 //! `cargo run --release -p sim-core --example scenario_probe -- [newton|xpbd] SUBSTEPS ITERS
 //! [STRETCH_SCALE] [SPACING_FRAC] [SCENARIO]`; `SHEET_CONTACT=0` switches sheet–sheet contact
-//! off, `INSERT=0` vertex insertion at singular points.
+//! off, `INSERT=0` vertex insertion at singular points, `FLIP=0` edge flips; `CUT=1` turns strip
+//! cutting on.
 
 use sim_core::physics::SolverKind;
 use sim_core::scenario;
@@ -42,6 +43,9 @@ fn main() {
     }
     if std::env::var("FLIP").is_ok_and(|v| v == "0") {
         cfg.geometry.flip_compressed_edges = false;
+    }
+    if std::env::var("CUT").is_ok_and(|v| v == "1") {
+        cfg.geometry.cut_strips = true;
     }
     println!("{:?}", cfg.solver);
     for name in scenario::names() {

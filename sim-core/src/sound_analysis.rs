@@ -568,6 +568,53 @@ mod tests {
         assert!(r.is_constrained());
     }
 
+    /// Every event of a frame that selects a region gets the one measurement of that region,
+    /// and the next frame measures again (resonators.rs, "One measurement per region and
+    /// frame").
+    #[test]
+    fn a_region_is_measured_once_per_frame() {
+        let (size, n) = (0.2, 20);
+        let mut sp = grid_sheet(size, n);
+        let c = vec![VertexContact::default(); sp.num_vertices()];
+        let h = vec![false; sp.num_vertices()];
+        let mut an = analysis_for(&sp, size);
+        let rolled = |sp: &mut PhysMesh, r_m: f64| {
+            for (x, p) in sp.pos.iter_mut().zip(&sp.pattern) {
+                let phi = p.x / r_m;
+                *x = V3::new(r_m * phi.sin(), p.y, r_m * (1.0 - phi.cos()));
+            }
+        };
+        let mut measured = Vec::new();
+        for r_m in [0.08, 0.05] {
+            rolled(&mut sp, r_m);
+            let input = AnalysisInput {
+                sp: &sp,
+                contacts: &c,
+                held: &h,
+                time_s: 0.0,
+            };
+            an.analyze(&input, &mut SoundFrame::default());
+            assert_eq!(an.regions.num_regions(), 1);
+            let fresh = ResonatorFinder::with_capacity(sp.num_triangles()).measure(
+                &sp,
+                &an.curvature,
+                an.regions.triangles(0),
+                &input,
+                &an.cfg,
+            );
+            for _event in 0..2 {
+                an.finder.begin();
+                an.finder.add_region(0);
+                an.finder
+                    .select(&sp, &an.curvature, &an.regions, &input, &an.cfg, 1);
+                assert_eq!(an.finder.resonator(0), fresh);
+            }
+            measured.push(fresh);
+        }
+        // The tighter roll is a different resonator: the second frame did not reuse the first.
+        assert_ne!(measured[0], measured[1]);
+    }
+
     /// A half-cylinder (curved, free edges) vs a flat sheet: l_c and l_r.
     #[test]
     fn curved_region_parameters() {
