@@ -145,22 +145,52 @@ pub fn plane_separation_m(a: [V3; 3], b: [V3; 3]) -> f64 {
 
 /// Distance between triangles `a` and `b`, metres (0 if they intersect).
 pub fn triangle_distance_m(a: [V3; 3], b: [V3; 3]) -> f64 {
+    triangle_distance_below_m(a, b, f64::INFINITY)
+}
+
+/// [`triangle_distance_m`] wherever that is below `bound_m`; otherwise some distance of at
+/// least `bound_m`. A vertex–triangle or edge–edge pair whose bounding boxes lie farther apart
+/// than `bound_m` is not measured: its distance is at least its boxes' gap, so it cannot be
+/// the closest pair of a result below the bound (a caller after the smallest distance passes
+/// the smallest so far, with a margin far above rounding).
+pub fn triangle_distance_below_m(a: [V3; 3], b: [V3; 3], bound_m: f64) -> f64 {
     if triangles_intersect(a, b) {
         return 0.0;
     }
+    let (box_a, box_b) = (bounding_box(&a), bounding_box(&b));
     let mut best = f64::INFINITY;
     for k in 0..3 {
-        best = best.min(point_triangle(a[k], b).0);
-        best = best.min(point_triangle(b[k], a).0);
+        if box_gap_m((a[k], a[k]), box_b) <= bound_m {
+            best = best.min(point_triangle(a[k], b).0);
+        }
+        if box_gap_m((b[k], b[k]), box_a) <= bound_m {
+            best = best.min(point_triangle(b[k], a).0);
+        }
     }
     for i in 0..3 {
         for j in 0..3 {
             let ea = [a[i], a[(i + 1) % 3]];
             let eb = [b[j], b[(j + 1) % 3]];
-            best = best.min(segment_segment(ea, eb).0);
+            if box_gap_m(bounding_box(&ea), bounding_box(&eb)) <= bound_m {
+                best = best.min(segment_segment(ea, eb).0);
+            }
         }
     }
     best
+}
+
+/// Lower and upper corners of the points' axis-aligned box.
+#[inline]
+fn bounding_box(p: &[V3]) -> (V3, V3) {
+    p.iter()
+        .skip(1)
+        .fold((p[0], p[0]), |(lo, hi), q| (lo.inf(q), hi.sup(q)))
+}
+
+/// Distance between two axis-aligned boxes (0 if they overlap), metres.
+#[inline]
+fn box_gap_m(a: (V3, V3), b: (V3, V3)) -> f64 {
+    (b.0 - a.1).sup(&(a.0 - b.1)).sup(&V3::zeros()).norm()
 }
 
 #[cfg(test)]
@@ -255,6 +285,28 @@ mod tests {
             }
         }
         assert!(crossing > 15 && apart > 15, "{crossing} / {apart}");
+    }
+
+    /// Below its bound the bounded distance is the distance itself, bit for bit; otherwise it
+    /// is never below the bound (and skips measuring, which the count shows).
+    #[test]
+    fn the_bounded_distance_is_exact_below_its_bound() {
+        let mut rng = Pcg32::seed_from_u64(7);
+        let mut pruned = 0;
+        for _ in 0..500 {
+            let (a, b) = random_pair(&mut rng, 0.08);
+            let d = triangle_distance_m(a, b);
+            for bound in [0.0, 0.3 * d, d * (1.0 + 1e-9), 2.0 * d, 0.01, 0.05] {
+                let got = triangle_distance_below_m(a, b, bound);
+                if d < bound {
+                    assert_eq!(got, d, "bound {bound}");
+                } else {
+                    assert!(got >= bound, "{got} < bound {bound} (distance {d})");
+                    pruned += usize::from(got != d);
+                }
+            }
+        }
+        assert!(pruned > 100, "{pruned}");
     }
 
     #[test]
