@@ -37,8 +37,9 @@
 //! sweep's window (pairs whose boxes are farther apart could only be pruned) and bounds the
 //! narrow phase: of a pair's 15 feature pairs, those whose boxes lie farther apart than it are
 //! not measured ([`crate::triangle_distance::triangle_distance_below_m`]); the margin keeps
-//! every answer the same (all 12 seed scenes bit-identical; the self-contact phase's median
-//! 0.236 → 0.164 ms in C5 and 0.196 → 0.149 ms in S4, `scenario_probe`, 2026-11-27). The pattern-gap filter answers from the two
+//! every answer the same (all 12 seed scenes bit-identical; the self-contact phase's mean per
+//! awake frame 0.236 → 0.164 ms in C5 and 0.196 → 0.149 ms in S4, `scenario_probe`,
+//! 2026-11-27). The pattern-gap filter answers from the two
 //! triangles' pattern boxes when those are clearly farther apart than the gap, and measures
 //! only the pairs left. The sweep reads the boxes in sweep order from one array and rejects a
 //! pair apart by more than the reach along y or z before it computes the gap's norm; the

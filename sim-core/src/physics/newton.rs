@@ -266,7 +266,8 @@ impl NewtonSolver {
     }
 
     /// Holds the free vertices of every triangle that is not turned over (more than 90°) from
-    /// `x_n` in `cur` but is in `trial`; returns whether it held any that was free.
+    /// `x_n` at the current positions (`mesh.pos`) but is at `trial`; returns whether it held
+    /// any vertex that was free.
     fn pin_turning(mesh: &PhysMesh, x_n: &[V3], trial: &[V3], held: &mut [bool]) -> bool {
         let mut pinned = false;
         for t in &mesh.triangles {
