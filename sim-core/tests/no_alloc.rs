@@ -5,7 +5,8 @@
 //! inserts an S_P vertex for a singular point (a new mesh, like a reset); such steps are not
 //! counted, and every other step is. A sheet built on one thread and stepped on another (the
 //! plugin's worker) allocates once on the new thread unless `sim_core::warm_up_thread` ran
-//! there first (the last test).
+//! there first. A solve that pins vertices (the Newton solve's stall handling) allocates
+//! nothing either.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -216,4 +217,29 @@ fn a_sheet_built_on_another_thread_steps_without_allocating_after_the_warm_up() 
             );
         }
     }
+}
+
+/// The Newton solve's pinning (`physics/newton.rs`, "Pinning") allocates nothing: the sheet of
+/// `tests/fixtures/stress_seed2_frame6452.json` (see `tests/stall_pinning.rs`) pins vertices in
+/// each of its next frames; after the first of them (the thread's warm-up), none allocates.
+#[test]
+fn a_pinning_solve_does_not_allocate() {
+    let saved = serde_json::from_str(include_str!("fixtures/stress_seed2_frame6452.json"))
+        .expect("the fixture parses");
+    let mut sim = Sim::restore(SimConfig::default(), &saved).expect("the fixture restores");
+    let mut out = FrameOutput::default();
+    sim.step(&mut out);
+    let mut pinned = 0;
+    let mut refined = 0;
+    let n = count(|| {
+        for _ in 0..2 {
+            step(&mut sim, &mut out, &mut refined);
+            pinned += out.stats.pinned_substeps;
+        }
+    });
+    assert!(
+        pinned > 0,
+        "the fixture no longer makes the solve pin (regenerate it)"
+    );
+    assert_eq!(n, 0, "{n} allocations in {pinned} pinning substeps");
 }
