@@ -4,7 +4,9 @@
 //! hands and gestures) and steps 10 frames while the scenario's gestures keep the hands moving.
 //! Groups: the default solver on four scenarios, the XPBD comparison solver, and the default
 //! solver at several mesh densities (cost against size); and the rebuild of everything sized by
-//! the mesh, which each vertex insertion, edge flip or strip cut pays. The full run-time-against-error report
+//! the mesh, which each vertex insertion, edge flip or strip cut pays; and the two contact queries
+//! of a crumpled sheet (the crumple cap's closest approach, the sheet–sheet contact pairs of a
+//! substep). The full run-time-against-error report
 //! (all scenarios, sweeps, percentiles, plot) is `cargo xtask bench-report`.
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
@@ -123,9 +125,38 @@ fn rebuild(c: &mut Criterion) {
     });
 }
 
+/// The contact queries on the crumpled C5 state of [`rebuild`]: the crumple cap's closest
+/// approach (`self_proximity.rs`, at the squeeze's reach) and the sheet–sheet contact pairs of a
+/// substep (`physics/sheet_contact.rs`) at the smallest and the largest reach.
+fn contact(c: &mut Criterion) {
+    let (cfg, saved, _) = snapshot("c5_full_crumple", 400, SimConfig::default());
+    let sim = Sim::restore(cfg, &saved).expect("restore");
+    let sp = &sim.sheet().sp;
+    let mut proximity = sim_core::self_proximity::SelfProximity::with_capacity(sp.num_triangles());
+    proximity.set_min_pattern_gap_m(0.75 * cfg.mesh.spacing_m(cfg.size));
+    c.bench_function("contact/c5_frame_400/closest_approach", |b| {
+        b.iter(|| proximity.closest_approach_m(sp, sim_core::gesture_rig::SQUEEZE_REACH_M))
+    });
+    let mut pairs = sim_core::physics::sheet_contact::SheetContact::new(sp);
+    for (label, reach_m) in [
+        ("min", sim_core::physics::sheet_contact::MIN_REACH_M),
+        ("max", sim_core::physics::sheet_contact::MAX_REACH_M),
+    ] {
+        c.bench_function(
+            &format!("contact/c5_frame_400/sheet_pairs_{label}_reach"),
+            |b| {
+                b.iter(|| {
+                    pairs.find(sp, reach_m);
+                    pairs.pairs().len()
+                })
+            },
+        );
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
-    targets = default_solver, xpbd_solver, density, rebuild
+    targets = default_solver, xpbd_solver, density, rebuild, contact
 }
 criterion_main!(benches);
