@@ -126,8 +126,9 @@ fn rebuild(c: &mut Criterion) {
 }
 
 /// The contact queries on the crumpled C5 state of [`rebuild`]: the crumple cap's closest
-/// approach (`self_proximity.rs`, at the squeeze's reach) and the sheet–sheet contact pairs of a
-/// substep (`physics/sheet_contact.rs`) at the smallest and the largest reach.
+/// approach (`self_proximity.rs`, at the squeeze's reach), its crossing test (the pass-through
+/// guard's and the isometry step's) and the sheet–sheet contact pairs of a substep
+/// (`physics/sheet_contact.rs`) at the smallest and the largest reach.
 fn contact(c: &mut Criterion) {
     let (cfg, saved, _) = snapshot("c5_full_crumple", 400, SimConfig::default());
     let sim = Sim::restore(cfg, &saved).expect("restore");
@@ -136,6 +137,9 @@ fn contact(c: &mut Criterion) {
     proximity.set_min_pattern_gap_m(0.75 * cfg.mesh.spacing_m(cfg.size));
     c.bench_function("contact/c5_frame_400/closest_approach", |b| {
         b.iter(|| proximity.closest_approach_m(sp, sim_core::gesture_rig::SQUEEZE_REACH_M))
+    });
+    c.bench_function("contact/c5_frame_400/any_crossing", |b| {
+        b.iter(|| proximity.any_crossing(sp))
     });
     let mut pairs = sim_core::physics::sheet_contact::SheetContact::new(sp);
     for (label, reach_m) in [

@@ -30,6 +30,34 @@ use crate::sheet::physical::PhysMesh;
 /// Compression above which an edge counts in n_comp (1 %, P 1437).
 pub const N_COMP_THRESHOLD: f64 = 0.01;
 
+/// Largest principal stretch deviation |λ − 1| of triangle `t` of `mesh` at corners `x`
+/// (infinite if not finite).
+pub fn triangle_strain(mesh: &PhysMesh, t: usize, x: [V3; 3]) -> f64 {
+    let (g, _) = green_strain(x, &mesh.tri_rest[t]);
+    // C = 2G + I; principal stretches λ = √eig(C).
+    let (lo, hi, _) = sym2_eigen(
+        2.0 * g[(0, 0)] + 1.0,
+        2.0 * g[(0, 1)],
+        2.0 * g[(1, 1)] + 1.0,
+    );
+    let s = (lo.max(0.0).sqrt() - 1.0)
+        .abs()
+        .max((hi.max(0.0).sqrt() - 1.0).abs());
+    if s.is_finite() { s } else { f64::INFINITY }
+}
+
+/// [`Metrics::max_strain`] of `mesh` with its vertices at `pos` (0 if `pos` does not fit).
+pub fn max_strain(mesh: &PhysMesh, pos: &[V3]) -> f64 {
+    if pos.len() != mesh.num_vertices() {
+        return 0.0;
+    }
+    mesh.triangles
+        .iter()
+        .enumerate()
+        .map(|(t, tri)| triangle_strain(mesh, t, tri.map(|i| pos[i as usize])))
+        .fold(0.0, f64::max)
+}
+
 /// Metrics of one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Metrics {
@@ -131,19 +159,7 @@ impl MetricsTracker {
         }
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let x = tri.map(|i| mesh.pos[i as usize]);
-            let (g, _) = green_strain(x, &mesh.tri_rest[t]);
-            // C = 2G + I; principal stretches λ = √eig(C).
-            let (lo, hi, _) = sym2_eigen(
-                2.0 * g[(0, 0)] + 1.0,
-                2.0 * g[(0, 1)],
-                2.0 * g[(1, 1)] + 1.0,
-            );
-            let s = (lo.max(0.0).sqrt() - 1.0)
-                .abs()
-                .max((hi.max(0.0).sqrt() - 1.0).abs());
-            m.max_strain = m
-                .max_strain
-                .max(if s.is_finite() { s } else { f64::INFINITY });
+            m.max_strain = m.max_strain.max(triangle_strain(mesh, t, x));
             let n = (x[1] - x[0]).cross(&(x[2] - x[0]));
             let area = 0.5 * n.norm();
             if area.is_nan() || area < 0.01 * mesh.tri_rest[t].area_m2 {
@@ -207,6 +223,23 @@ mod tests {
         assert!(m.n_comp_pct > 10.0);
         assert!((m.max_strain - 0.02).abs() < 1e-9);
         assert!((m.max_compression - 0.02).abs() < 1e-9);
+    }
+
+    #[test]
+    fn max_strain_at_given_positions_is_the_metric() {
+        let mut mesh = PhysMesh::from_pattern(&lattice(0.1, 0.1, 0.02), 0.75, 0.1).unwrap();
+        let flat = mesh.pos.clone();
+        let v = mesh.num_vertices() / 2;
+        mesh.pos[v].z += 0.004;
+        let m = MetricsTracker::new(&mesh).compute(&mesh);
+        assert!(m.max_strain > 0.01, "{}", m.max_strain);
+        assert_eq!(max_strain(&mesh, &mesh.pos), m.max_strain);
+        assert!(max_strain(&mesh, &flat) < 1e-12);
+        assert_eq!(
+            max_strain(&mesh, &flat[1..]),
+            0.0,
+            "positions that do not fit"
+        );
     }
 
     #[test]

@@ -232,6 +232,9 @@ pub struct SubstepReport {
     /// the line search tried would have turned their triangle over
     /// ([`newton`] module doc, "Pinning").
     pub pinned: bool,
+    /// Newton: the solve ended on an iterate from which no step was acceptable, even damped
+    /// and after any pinning: the substep stopped short of its solution.
+    pub stalled: bool,
 }
 
 /// State frozen at the start of a substep, shared by both solvers.
@@ -351,6 +354,20 @@ impl Physics {
         num_vertices: usize,
     ) -> Result<(), String> {
         self.frame.sheet.set_boosts(boosts, num_vertices)
+    }
+
+    /// Positions at the start of the last substep.
+    pub fn substep_start(&self) -> &[V3] {
+        &self.frame.x_n
+    }
+
+    /// Puts `mesh` back where the last substep started (positions and velocities), so the
+    /// substep can be solved again with other kinematic targets.
+    pub fn restore_substep_start(&self, mesh: &mut PhysMesh) {
+        if self.frame.x_n.len() == mesh.pos.len() && self.frame.v_n.len() == mesh.vel.len() {
+            mesh.pos.copy_from_slice(&self.frame.x_n);
+            mesh.vel.copy_from_slice(&self.frame.v_n);
+        }
     }
 
     /// One frame passed: contact boosts age.

@@ -5,8 +5,10 @@
 //! inserts an S_P vertex for a singular point (a new mesh, like a reset); such steps are not
 //! counted, and every other step is. A sheet built on one thread and stepped on another (the
 //! plugin's worker) allocates once on the new thread unless `sim_core::warm_up_thread` ran
-//! there first. A solve that pins vertices (the Newton solve's stall handling) allocates
-//! nothing either.
+//! there first. The stall handling allocates nothing either: a solve that pins vertices, and a
+//! substep solved again from rest with the hands held back.
+
+mod common;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -220,13 +222,11 @@ fn a_sheet_built_on_another_thread_steps_without_allocating_after_the_warm_up() 
 }
 
 /// The Newton solve's pinning (`physics/newton.rs`, "Pinning") allocates nothing: the sheet of
-/// `tests/fixtures/stress_seed2_frame6452.json` (see `tests/stall_pinning.rs`) pins vertices in
-/// each of its next frames; after the first of them (the thread's warm-up), none allocates.
+/// `tests/fixtures/stress_seed2_frame6452.json` (see `tests/stalled_substeps.rs`) pins vertices
+/// in each of its next frames; after the first of them (the thread's warm-up), none allocates.
 #[test]
 fn a_pinning_solve_does_not_allocate() {
-    let saved = serde_json::from_str(include_str!("fixtures/stress_seed2_frame6452.json"))
-        .expect("the fixture parses");
-    let mut sim = Sim::restore(SimConfig::default(), &saved).expect("the fixture restores");
+    let mut sim = common::restore_fixture(include_str!("fixtures/stress_seed2_frame6452.json"));
     let mut out = FrameOutput::default();
     sim.step(&mut out);
     let mut pinned = 0;
@@ -242,4 +242,29 @@ fn a_pinning_solve_does_not_allocate() {
         "the fixture no longer makes the solve pin (regenerate it)"
     );
     assert_eq!(n, 0, "{n} allocations in {pinned} pinning substeps");
+}
+
+/// A stalled substep solved again from rest with the hands held back (`sim.rs`, "A stalled
+/// substep") allocates nothing: the sheet of `tests/fixtures/stress_seed4_frame33201.json`
+/// holds back in its first two frames; the second is counted.
+#[test]
+fn a_substep_solved_again_does_not_allocate() {
+    let mut sim = common::restore_fixture(include_str!("fixtures/stress_seed4_frame33201.json"));
+    let mut out = FrameOutput::default();
+    sim.step(&mut out);
+    let mut refined = 0;
+    let n = count(|| step(&mut sim, &mut out, &mut refined));
+    let held_back = out.stats.held_back_substeps;
+    assert_eq!(
+        refined, 0,
+        "the counted frame changed the mesh and was not counted"
+    );
+    assert!(
+        held_back > 0,
+        "the fixture no longer holds back in its second frame (regenerate it)"
+    );
+    assert_eq!(
+        n, 0,
+        "{n} allocations in a frame that solved a substep again"
+    );
 }

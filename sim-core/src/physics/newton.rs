@@ -43,11 +43,13 @@
 //! passes. A stall whose shortest trial turns nothing over (a failure of the energy test
 //! alone) still ends the substep as before. Frames that never stall are unchanged: the 12 seed
 //! scenes are bit-identical with and without pinning (`scenario_probe` hashes), and none of
-//! them pins a vertex. Regression test: `sim-core/tests/stall_pinning.rs`. Not a cure for every
-//! stall: in the long stress run (`sim-stress`, session 3, frame 33 202) the pinned vertex was a
-//! corner of a small triangle whose other corner a slipping hand dragged away, and that triangle
-//! stretched to strain 3.35 (2.23 without pinning, where the whole solve stops instead); what
-//! that needs is a hand that gives way within the frame (`docs/benchmarks.md`, long stress run).
+//! them pins a vertex. Regression test: `sim-core/tests/stalled_substeps.rs`. Not a cure for
+//! every stall: in the long stress run (`sim-stress`, seed 4, frame 33 202) the pinned vertex,
+//! held where the predictor had carried it, was a corner of a small triangle whose other corner
+//! a hand held, and that triangle stretched to strain 3.35 (2.23 without pinning, where the
+//! whole solve stops instead). A substep that stalls or pins and leaves the sheet strained is
+//! therefore solved again from rest with the hands held back (`crate::sim`, "A stalled
+//! substep"); the solve reports the stall ([`SubstepReport::stalled`]).
 
 use crate::collision::{
     CONTACT_SKIN_M, HARD_CONTACT_FACTOR, MAX_PENETRATION_M, Obstacles, STICK_SPEED_M_S,
@@ -259,6 +261,7 @@ impl NewtonSolver {
                 e0 = f64::NAN;
                 continue;
             }
+            report.stalled = true;
             break;
         }
         self.held = held;
