@@ -237,6 +237,21 @@ pub struct SubstepReport {
     pub stalled: bool,
 }
 
+/// True if some triangle of `mesh` turns by more than 90° (its normal reverses) between
+/// positions `a` and `b` (false if the positions do not fit the mesh).
+pub fn turns_a_triangle_over(mesh: &PhysMesh, a: &[V3], b: &[V3]) -> bool {
+    let n = mesh.num_vertices();
+    if a.len() != n || b.len() != n {
+        return false;
+    }
+    mesh.triangles.iter().any(|t| {
+        let [i, j, k] = t.map(|v| v as usize);
+        let na = (a[j] - a[i]).cross(&(a[k] - a[i]));
+        let nb = (b[j] - b[i]).cross(&(b[k] - b[i]));
+        na.dot(&nb) <= 0.0 && na.norm_squared() > 0.0
+    })
+}
+
 /// State frozen at the start of a substep, shared by both solvers.
 #[derive(Clone, Debug, Default)]
 pub struct SubstepFrame {

@@ -34,32 +34,44 @@
 //!    singular vertices and sliding contacts into crumple and friction events with their
 //!    resonators, written to the frame's [`SoundFrame`], and the statistics are written.
 //!
-//! ## A stalled substep
+//! ## A substep solved again
 //!
-//! The hands are hard constraints and the solve starts from the predictor (each free vertex
-//! carried on by its velocity). When the solve stalls — no step is acceptable, even damped,
-//! or it had to pin vertices whose triangle every step would turn over (physics/newton.rs
-//! "Pinning") — the vertices it could not move stay where the predictor put them, and a
-//! triangle between them and a hand, or the vertices that did move, stretches. So a stalled
-//! or pinned substep that leaves some triangle strained by more than [`HOLD_BACK_STRAIN`],
-//! and more than at its start, is solved again from its start, at rest, with every hand back
-//! at its pose at the start of the frame: the frame's momentum is dropped, as the
-//! pass-through guard drops it (`undo_pass_through`), and the hands wait a frame (with
-//! several substeps, the held vertices go back to where the frame began). The second solve
-//! stands only if it leaves at most [`HOLD_BACK_GAIN`] (90 %) of the first one's strain;
-//! otherwise the first stands, hands and all. Without that margin a sheet that strained the
-//! same either way kept its hands held back frame after frame: in `sim-stress --seed 2` a
-//! pinned triangle held the gesture for 200 frames (second solves 0.3 % better), and the
-//! frame where it went on strained the sheet to 1.09.
+//! The hands are hard constraints: a substep starts with each held vertex at its target and
+//! the free vertices where the predictor (their velocity) carries them, and the solve brings
+//! them after. Two things can go wrong, and in both the substep is solved again from its
+//! start, at rest, with every hand back at its pose at the start of the frame: the frame's
+//! momentum is dropped, as the pass-through guard drops it (`undo_pass_through`), and the
+//! hands wait a frame (with several substeps, the held vertices go back to where the frame
+//! began).
+//! - **A hand's jump turns a triangle over.** The line search never turns a triangle over,
+//!   but a held vertex that jumps to its target can (a hand grabbing next to a small triangle
+//!   beside an inserted vertex), and the solve cannot turn it back. The second solve stands
+//!   if it turns nothing over and strains the sheet no more than the first (or less than
+//!   [`HOLD_BACK_STRAIN`]). Found by the long hostile stress run (`sim-stress`, seed 14, frame
+//!   48 657: a left-hand grab turned a triangle over); from the state saved before it, with
+//!   the grab applied, the frame now turns nothing over.
+//! - **The solve stalls into strain.** When no step is acceptable, even damped, or the solve
+//!   had to pin vertices whose triangle every step would turn over (physics/newton.rs
+//!   "Pinning"), the vertices it could not move stay where the predictor put them, and a
+//!   triangle between them and a hand, or the vertices that did move, stretches. A stalled or
+//!   pinned substep that leaves some triangle strained by more than [`HOLD_BACK_STRAIN`], and
+//!   more than at its start, is solved again; the second solve stands only if it turns
+//!   nothing over and leaves at most [`HOLD_BACK_GAIN`] (90 %) of the first one's strain.
+//!   Without that margin a sheet that strained the same either way kept its hands held back
+//!   frame after frame: in `sim-stress --seed 2` a pinned triangle held the gesture for 200
+//!   frames (second solves 0.3 % better), and the frame where it went on strained the sheet
+//!   to 1.09. Found by the long stress run (seed 4, frame 33 202: a sheet moving at 3.1 m/s, a
+//!   vertex pinned where the predictor had carried it, next to a small triangle whose other
+//!   corner a hand held: strain 2.80; 2.23 without pinning). From the states saved just before
+//!   the failing frames (`examples/fixture_step.rs`), seed 4's frame ends at strain 0.047
+//!   (0.064 when only the momentum is dropped; 2.80 when only the hands go back: the
+//!   predictor, not the hands, strained it), seed 11's (frame 24 681) at 0.891 instead of
+//!   1.081.
 //!
-//! Found by the long hostile stress run (`sim-stress`, seed 4, frame 33 202: a sheet moving
-//! at 3.1 m/s, a vertex pinned where the predictor had carried it, next to a small triangle
-//! whose other corner a hand held: strain 2.80; 2.23 without pinning). Measured on the states
-//! saved just before the failing frames (`examples/fixture_step.rs`, fixtures in
-//! `sim-core/tests/fixtures/`): seed 4's frame ends at strain 0.047 (0.064 when only the
-//! momentum is dropped; 2.80 when only the hands go back: the predictor, not the hands,
-//! strained it), seed 11's (frame 24 681) at 0.891 instead of 1.081. No seed scene stalls, so
-//! none plays differently (`scenario_probe` hashes). Counted in
+//! Otherwise the first solve stands, hands and all. A gesture whose every step would turn a
+//! triangle over is held back as long as it tries. No seed scene turns a triangle over or
+//! stalls, so none plays differently (`scenario_probe` hashes). The fixtures are in
+//! `sim-core/tests/fixtures/` (`tests/stalled_substeps.rs`). Counted in
 //! [`FrameStats::held_back_substeps`] (second solves that stood).
 //!
 //! ## Sleeping
@@ -113,10 +125,11 @@ pub const SLEEP_SPEED_M_S: f64 = 2e-3;
 pub const SLEEP_FRAMES: u32 = 40;
 /// Strain (largest principal stretch deviation, `Metrics::max_strain`) above which a stalled
 /// or pinned substep is solved again from rest with the hands held back (module doc, "A
-/// stalled substep"): half the stress tests' bound, five times the seed scenes' health limit.
+/// substep solved again"): half the stress tests' bound, five times the seed scenes' health
+/// limit.
 pub const HOLD_BACK_STRAIN: f64 = 0.5;
 /// A substep solved again with the hands held back stands only if it leaves at most this
-/// fraction of the first solve's strain (module doc, "A stalled substep").
+/// fraction of the first solve's strain (module doc, "A substep solved again").
 pub const HOLD_BACK_GAIN: f64 = 0.9;
 /// Frames in a row the pass-through guard may undo before one frame goes through as simulated
 /// (`Sim::undo_pass_through`).
@@ -214,9 +227,10 @@ pub struct FrameStats {
     /// Substeps in which the Newton solve pinned free vertices whose triangle every step
     /// would have turned over (physics/newton.rs "Pinning"); 0 in the seed scenes.
     pub pinned_substeps: u32,
-    /// Substeps solved again from rest with the hands where the frame started, because the
-    /// solve stalled or pinned and left a triangle strained beyond [`HOLD_BACK_STRAIN`], whose
-    /// second solve stood (module doc, "A stalled substep"); 0 in the seed scenes.
+    /// Substeps solved again from rest with the hands where the frame started — because a
+    /// hand's jump turned a triangle over, or the solve stalled or pinned and left a triangle
+    /// strained beyond [`HOLD_BACK_STRAIN`] — whose second solve stood (module doc, "A
+    /// substep solved again"); 0 in the seed scenes.
     pub held_back_substeps: u32,
     /// Frames in a row (this one included) whose motion was undone because it would have
     /// passed the sheet through itself (0 = this frame went through; gesture_rig.rs
@@ -271,8 +285,8 @@ pub struct Sim {
     frame_start_pattern: Vec<V2>,
     /// S_P positions before the contact depth limit of a substep.
     pre_limit_pos: Vec<V3>,
-    /// Positions and velocities after a stalled substep, kept while it is solved again
-    /// (`solve_stalled_substep_again`).
+    /// Positions and velocities after a substep, kept while it is solved again
+    /// (`solve_substep_again`).
     stalled_pos: Vec<V3>,
     stalled_vel: Vec<V3>,
     /// Whether `step` reads the clock between its phases (benchmarks).
@@ -649,24 +663,30 @@ impl Sim {
         }
     }
 
-    /// A stalled or pinned substep (its report `r`) that left the sheet strained beyond
-    /// [`HOLD_BACK_STRAIN`], and more than at its start, is solved again from its start at
-    /// rest with the hands back where the frame started (module doc, "A stalled substep").
-    /// The second solve stands if it leaves at most [`HOLD_BACK_GAIN`] of the first one's
-    /// strain, else the first does, hands and all; `r` becomes the report of the one that
-    /// stands. Returns `None` if nothing was tried, else whether the second solve was kept
-    /// and the other solve's report.
-    fn solve_stalled_substep_again(
+    /// A substep (its report `r`) that turned a triangle over, or that stalled or pinned and
+    /// left the sheet strained beyond [`HOLD_BACK_STRAIN`] and more than at its start, is
+    /// solved again from its start at rest with the hands back where the frame started
+    /// (module doc, "A substep solved again"). The second solve stands if it turns nothing over
+    /// and leaves at most [`HOLD_BACK_GAIN`] of the first one's strain (after a turn-over: no
+    /// more than the first, or [`HOLD_BACK_STRAIN`]); else the first stands, hands and all.
+    /// `r` becomes the report of the solve that stands. Returns `None` if nothing was tried,
+    /// else whether the second solve stood and the other solve's report.
+    fn solve_substep_again(
         &mut self,
         frac: f64,
         h: f64,
         r: &mut SubstepReport,
     ) -> Option<(bool, SubstepReport)> {
         let sp = &self.sheet.sp;
+        let start = self.physics.substep_start();
+        let turned = crate::physics::turns_a_triangle_over(sp, start, &sp.pos);
+        if !turned && !(r.stalled || r.pinned) {
+            return None;
+        }
         let first_strain = crate::metrics::max_strain(sp, &sp.pos);
-        if first_strain <= HOLD_BACK_STRAIN
-            || first_strain <= crate::metrics::max_strain(sp, self.physics.substep_start())
-        {
+        let strained =
+            first_strain > HOLD_BACK_STRAIN && first_strain > crate::metrics::max_strain(sp, start);
+        if !turned && !strained {
             return None;
         }
         self.stalled_pos.clone_from(&sp.pos);
@@ -679,7 +699,15 @@ impl Sim {
             .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
         let second = self.solve_substep(h);
         let sp = &mut self.sheet.sp;
-        if crate::metrics::max_strain(sp, &sp.pos) <= HOLD_BACK_GAIN * first_strain {
+        let start = self.physics.substep_start();
+        let strain = crate::metrics::max_strain(sp, &sp.pos);
+        let stands = !crate::physics::turns_a_triangle_over(sp, start, &sp.pos)
+            && if turned {
+                strain <= first_strain.max(HOLD_BACK_STRAIN)
+            } else {
+                strain <= HOLD_BACK_GAIN * first_strain
+            };
+        if stands {
             return Some((true, std::mem::replace(r, second)));
         }
         // The second solve did no better: the first stands.
@@ -822,9 +850,7 @@ impl Sim {
             self.rig
                 .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
             let mut r = self.solve_substep(h);
-            if (r.stalled || r.pinned)
-                && let Some((kept, discarded)) = self.solve_stalled_substep_again(frac, h, &mut r)
-            {
+            if let Some((kept, discarded)) = self.solve_substep_again(frac, h, &mut r) {
                 iterations += discarded.iterations;
                 halvings += discarded.halvings;
                 held_back += u32::from(kept);

@@ -244,8 +244,8 @@ fn a_pinning_solve_does_not_allocate() {
     assert_eq!(n, 0, "{n} allocations in {pinned} pinning substeps");
 }
 
-/// A stalled substep solved again from rest with the hands held back (`sim.rs`, "A stalled
-/// substep") allocates nothing: the sheet of `tests/fixtures/stress_seed4_frame33201.json`
+/// A stalled substep solved again from rest with the hands held back (`sim.rs`, "A substep
+/// solved again") allocates nothing: the sheet of `tests/fixtures/stress_seed4_frame33201.json`
 /// holds back in its first two frames; the second is counted.
 #[test]
 fn a_substep_solved_again_does_not_allocate() {

@@ -1,6 +1,7 @@
-//! Regression tests of what the sim does when the Newton solve stalls: pinning
+//! Regression tests of what the sim does when the Newton solve stalls or a hand's jump turns a
+//! triangle over: pinning
 //! (`sim_core::physics::newton`, "Pinning") and solving the substep again from rest with the
-//! hands held back (`sim_core::sim`, "A stalled substep").
+//! hands held back (`sim_core::sim`, "A substep solved again").
 //!
 //! The fixtures are sheets saved just before a failing frame of the hostile stress sessions
 //! `sim-stress --seed S --sessions 1`, written by
@@ -13,14 +14,19 @@
 //!   pinned where the predictor had carried it, next to a small triangle a hand held), 2.23
 //!   with neither, 0.047 solved again;
 //! - seed 11 after frame 24 680 (the long run's session 10): 1.081 with pinning alone, or with
-//!   neither, 0.891 solved again.
+//!   neither, 0.891 solved again;
+//! - seed 14 after frame 48 656 (the long run's session 13): the next frame's left hand grabs
+//!   (`Grab { slot: Left, grip: 0.78670144 }`, the stream's command at frame 48 657) and its
+//!   held vertex's jump turns the small triangle [89, 22, 15] beside an inserted vertex over;
+//!   solved again with the hands held back, nothing turns over.
 //!
 //! Each test fails with the remedy it names removed (checked: without pinning the first test
 //! finds no pinned substep — solving again rescues that frame too — and without solving again
-//! the second fails on seed 4's strain).
+//! the second fails on seed 4's strain and the third on seed 14's turned triangle).
 
 mod common;
 
+use sim_core::control::{Command, GrabSlot};
 use sim_core::sim::{FrameOutput, Sim};
 use sim_core::stress::MAX_STRAIN;
 
@@ -78,4 +84,18 @@ fn a_stalled_substep_that_strains_the_sheet_is_solved_again_from_rest() {
             "the fixture no longer stalls into strain (regenerate it)"
         );
     }
+}
+
+#[test]
+fn a_substep_that_turns_a_triangle_over_is_solved_again_with_the_hands_held_back() {
+    let mut sim = common::restore_fixture(include_str!("fixtures/stress_seed14_frame48656.json"));
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Left,
+        grip: 0.786_701_44,
+    });
+    let first = three_sound_frames(sim);
+    assert!(
+        first.held_back_substeps > 0,
+        "the grab no longer turns a triangle over (regenerate the fixture)"
+    );
 }

@@ -48,8 +48,8 @@
 //! held where the predictor had carried it, was a corner of a small triangle whose other corner
 //! a hand held, and that triangle stretched to strain 3.35 (2.23 without pinning, where the
 //! whole solve stops instead). A substep that stalls or pins and leaves the sheet strained is
-//! therefore solved again from rest with the hands held back (`crate::sim`, "A stalled
-//! substep"); the solve reports the stall ([`SubstepReport::stalled`]).
+//! therefore solved again from rest with the hands held back (`crate::sim`, "A substep
+//! solved again"); the solve reports the stall ([`SubstepReport::stalled`]).
 
 use crate::collision::{
     CONTACT_SKIN_M, HARD_CONTACT_FACTOR, MAX_PENETRATION_M, Obstacles, STICK_SPEED_M_S,
@@ -168,7 +168,7 @@ impl NewtonSolver {
         }
         // A predictor that turns a triangle over (fast spin or a kinematic jump) would start the
         // solve beyond the collapse barrier; start the free vertices at rest instead.
-        if Self::flips_any(mesh, &frame.x_n, &mesh.pos) {
+        if crate::physics::turns_a_triangle_over(mesh, &frame.x_n, &mesh.pos) {
             for i in 0..n {
                 if !kin.fixed[i] {
                     mesh.pos[i] = frame.x_n[i];
@@ -290,16 +290,6 @@ impl NewtonSolver {
             }
         }
         pinned
-    }
-
-    /// True if some triangle's normal turns by more than 90° between `a` and `b`.
-    fn flips_any(mesh: &PhysMesh, a: &[V3], b: &[V3]) -> bool {
-        mesh.triangles.iter().any(|t| {
-            let [i, j, k] = t.map(|v| v as usize);
-            let na = (a[j] - a[i]).cross(&(a[k] - a[i]));
-            let nb = (b[j] - b[i]).cross(&(b[k] - b[i]));
-            na.dot(&nb) <= 0.0 && na.norm_squared() > 0.0
-        })
     }
 
     /// True if some triangle that is not turned over (more than 90°) from `x_n` in `cur` is
