@@ -680,7 +680,7 @@ impl Sim {
         let sp = &self.sheet.sp;
         let start = self.physics.substep_start();
         let turned = crate::physics::turns_a_triangle_over(sp, start, &sp.pos);
-        if !turned && !(r.stalled || r.pinned) {
+        if !(turned || r.stalled || r.pinned) {
             return None;
         }
         let first_strain = crate::metrics::max_strain(sp, &sp.pos);
