@@ -3,7 +3,7 @@
 //!
 //! `cargo run --release -p sim-core --example insert_probe [-- NAME[@SEED]...]` (`ISO=0`: isometry
 //! step off; `CUT=1`: strip cutting on, `GeometryConfig::cut_strips`, the strips cut shown after
-//! the vertices inserted; `COUPLING=N`: `SolverConfig::contact_coupling_pairs`)
+//! the vertices inserted, with the vertices coarsening took out again; `COUPLING=N`: `SolverConfig::contact_coupling_pairs`)
 //!
 //! Per scene and mode: singular points, how many sit exactly at s̄ (pattern distance
 //! < 1 µm) and the largest distance, S_P vertices inserted, final mesh size, mean c_mean and
@@ -111,7 +111,11 @@ fn main() {
                 dmax * 1e3,
                 sim.inserted_vertices(),
                 if cut {
-                    format!(" + {} cuts", sim.cut_strips())
+                    format!(
+                        " + {} cuts, {} vertices taken out",
+                        sim.cut_strips(),
+                        sim.collapsed_vertices()
+                    )
                 } else {
                     String::new()
                 },

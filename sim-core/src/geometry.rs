@@ -129,6 +129,25 @@
 //! 10. **Sudden shape changes** ("clac", T 1247, 1261): new singular vertices, new curved
 //!     regions, flattened triangles, flat-region splits, junction moves and the largest vertex
 //!     jump of the frame are listed in [`GeometryFrame::events`] (never smoothed).
+//! 11. **Coarsening** (the seeds' "coarse flat triangles" of S_P regeneration, P 351–354,
+//!     T 734–744; digest §2.2; plan step 2 of `docs/sp-regeneration-plan.md`): every
+//!     [`COARSEN_PERIOD_FRAMES`] frames, the last S_P vertex beyond the initial lattice that
+//!     is not singular — in practice a vertex a strip cut added (below) — is taken out again
+//!     when the sheet has opened out flat and still around it: its triangles are all flat,
+//!     its edges uncreased and bent by less than θ0, it is neither held nor next to a held
+//!     vertex, it moves with its neighbours (relative speed < [`COARSEN_MAX_REL_SPEED_M_S`]),
+//!     and a neighbour can take its place with well-shaped triangles. The sim collapses it
+//!     into that neighbour at the start of the next step ([`crate::sheet::coarsen`]: edge
+//!     collapse, Delaunay flips, state carried over, the vertices after it one index lower;
+//!     `sim/remesh.rs`), one per step and only when no other mesh change is pending, and
+//!     reports [`ShapeEvent::VertexCollapsed`]. The lattice's vertices and singular vertices
+//!     are never taken out, so the mesh never becomes coarser than the lattice, and with
+//!     strip cutting off (the default) nothing is ever taken out. Measured
+//!     (`sim-core/examples/coarsen_probe.rs`): a sheet held at both short edges, arched and let
+//!     go (the test script of `sim/remesh.rs`) gets 2 cuts with 4 new vertices in its first
+//!     0.1 s, and all 4 go between frames 301 and 370, as the arch flattens out (one per
+//!     [`COARSEN_PERIOD_FRAMES`]); in the slide S1 one of the 15 its 2 cuts added goes, the
+//!     others lie on the hinge the sheet stays bent along (|θ| ≈ 0.03 rad at rest).
 //!
 //! ## Simplifications against the seeds (said plainly)
 //!
@@ -208,11 +227,11 @@
 //!   keep their targets: the twist has no singular point and its largest strain falls from
 //!   0.045 to 0.006 (c_mean 0.015 → 0.007 %); the double bend C4 makes 2 in each of seeds 2–6
 //!   and its own (1–5 without cuts). Why it stays opt-in: every cut only adds triangles (S1
-//!   130 → 158) and frame time, since nothing coarsens the mesh yet
-//!   (`docs/sp-regeneration-plan.md` step 2), and under the stress stream's hostile grabs a
-//!   small cut triangle next to a just-grabbed vertex can still turn over in one frame
-//!   (`sim-stress --cut-strips`: 1 of 13 sessions of 10⁴ frames, seed 15, which passes
-//!   without cuts).
+//!   130 → 158) and frame time while the sheet stays bent along them (coarsening, step 11,
+//!   takes a cut's vertices out only where the sheet has opened out flat again). Robustness
+//!   no longer keeps it off: `sim-stress --frames 10000 --seed S --sessions 1 --cut-strips`
+//!   passes for S = 1–24 (2026-11-27, with coarsening; largest strain 0.31–0.94; seed 9 cut
+//!   2 strips and took 12 vertices out again, seed 10 cut 1), as the default does.
 //! - **Edge flips act on S_P** (step 2 above, digest test 2): the seeds flip edges of the
 //!   coarse S_G triangulation of a flat region so that a fold across its other diagonal can
 //!   be seen (their S_P, resampled from S_G, bends underneath). Here S_G's flat regions are
@@ -319,6 +338,14 @@ pub const MIN_CUT_STRIP_TRIANGLES: usize = 4;
 /// Most edge crossings of a strip's cut line (both walks).
 const MAX_CUT_CROSSINGS: usize = 2 * MAX_WALK + 2;
 
+/// The layer looks for a vertex to take out of a flat region ([`GeometryConfig::coarsen_flat_regions`])
+/// once every this many frames (20: 0.1 s at 200 frames/s): a cut's few vertices go within a
+/// second of the sheet opening out, and a collapse the sim refuses is not retried every frame.
+pub const COARSEN_PERIOD_FRAMES: u64 = 20;
+/// A vertex is taken out only while it moves with its neighbours: no relative speed above
+/// this, m/s (its own momentum goes with it, [`crate::sheet::coarsen`]).
+pub const COARSEN_MAX_REL_SPEED_M_S: f64 = 0.01;
+
 /// Settings of the geometry layer (part of [`crate::SimConfig`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GeometryConfig {
@@ -356,10 +383,17 @@ pub struct GeometryConfig {
     pub flip_compressed_edges: bool,
     /// Cut S_P along a new strip's imaginary ruling, so that the ruling becomes a chain of
     /// S_P edges the sheet can bend along (the seeds' strip cutting, TOG P 459–487; done by the
-    /// sim at the start of the next step, [`crate::sheet::cut`]). Off by default: without the
-    /// coarsening of `docs/sp-regeneration-plan.md` step 2 every cut only adds triangles (see
-    /// the module doc, "Strip cutting").
+    /// sim at the start of the next step, [`crate::sheet::cut`]). Off by default: every cut
+    /// adds triangles and Newton work for as long as the sheet stays bent along it
+    /// (coarsening, [`Self::coarsen_flat_regions`], takes them out only where it opens out
+    /// flat again; see the module doc, "Strip cutting").
     pub cut_strips: bool,
+    /// Take a vertex that a strip cut added out of S_P again once the sheet is flat, unheld
+    /// and at rest around it (plan step 2 of `docs/sp-regeneration-plan.md`; done by the sim at
+    /// the start of the next step, [`crate::sheet::coarsen`]). Only vertices beyond the
+    /// initial lattice that are not singular are candidates — with `cut_strips` off there are
+    /// none. On by default (see the module doc, "Coarsening").
+    pub coarsen_flat_regions: bool,
 }
 
 impl Default for GeometryConfig {
@@ -377,6 +411,7 @@ impl Default for GeometryConfig {
             insert_singular_vertices: true,
             flip_compressed_edges: true,
             cut_strips: false,
+            coarsen_flat_regions: true,
         }
     }
 }
@@ -669,6 +704,15 @@ pub enum ShapeEvent {
         /// Of them, new vertices.
         added_vertices: u32,
     },
+    /// A vertex a strip cut had added was taken out of S_P again, the sheet being flat around
+    /// it ([`GeometryConfig::coarsen_flat_regions`]): the sheet's triangles changed, not its
+    /// shape.
+    VertexCollapsed {
+        /// The removed vertex's index before (vertices after it moved down by one).
+        removed: u32,
+        /// The vertex that took its place, index after.
+        into: u32,
+    },
     /// Curved triangles turned flat (regions flattened or shrunk).
     Flattened {
         /// Triangles that turned flat.
@@ -851,6 +895,14 @@ pub struct SavedGeometry {
     /// frame found). Absent when none (and in saves from before it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pending_cut: Option<(Vec<([u32; 2], f64)>, u64)>,
+    /// Vertices below this index are the initial lattice's, never taken out by coarsening.
+    /// Absent in saves from before it: every vertex present then stays.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coarsen_from: Option<u32>,
+    /// A vertex waiting to be taken out of a flat region: (vertex, frame found). Absent when
+    /// none (and in saves from before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pending_coarsen: Option<(u32, u64)>,
 }
 
 /// Where a propagation direction ended.
@@ -927,6 +979,10 @@ pub struct GeometryLayer {
     pending_cut_frame: Option<u64>,
     /// Its crossings, in line order.
     pending_cut: Vec<EdgeCrossing>,
+    /// Vertices below this index are the initial lattice's (never taken out).
+    coarsen_from: usize,
+    /// A vertex waiting to be taken out of a flat region: (vertex, frame found).
+    pending_coarsen: Option<(u32, u64)>,
     /// This frame's event list was started before the layer ran ([`Self::start_events_early`]).
     keep_events: bool,
     /// The isometry step's crossing test found S_P's final positions of this frame crossing
@@ -1049,6 +1105,8 @@ impl GeometryLayer {
             cut_line: Vec::with_capacity(MAX_CUT_CROSSINGS),
             pending_cut_frame: None,
             pending_cut: Vec::with_capacity(MAX_CUT_CROSSINGS),
+            coarsen_from: nv,
+            pending_coarsen: None,
             keep_events: false,
         };
         let mut count = vec![0u32; nv + 1];
@@ -1185,6 +1243,8 @@ impl GeometryLayer {
                 let line = self.pending_cut.iter().map(|c| (c.edge, c.u)).collect();
                 (line, f)
             }),
+            coarsen_from: Some(self.coarsen_from as u32),
+            pending_coarsen: self.pending_coarsen,
         }
     }
 
@@ -1263,6 +1323,17 @@ impl GeometryLayer {
                         .extend(line.iter().map(|&(edge, u)| EdgeCrossing { edge, u }));
                     self.pending_cut_frame = Some(*f);
                 }
+                self.coarsen_from = match g.coarsen_from {
+                    None => nv,
+                    Some(n) if n as usize <= nv => n as usize,
+                    Some(_) => return Err("bad lattice vertex count".into()),
+                };
+                self.pending_coarsen = match g.pending_coarsen {
+                    Some((v, _)) if v as usize >= nv || (v as usize) < self.coarsen_from => {
+                        return Err("bad pending coarsening entry".into());
+                    }
+                    p => p,
+                };
                 self.pending_flip = match g.pending_flip {
                     None => None,
                     Some(([a, b], c, o, f)) => {
@@ -1284,6 +1355,8 @@ impl GeometryLayer {
                 self.pending_flip = None;
                 self.pending_cut.clear();
                 self.pending_cut_frame = None;
+                self.coarsen_from = nv;
+                self.pending_coarsen = None;
                 for &v in &sp.singular {
                     self.push_singular(sp, v, sp.pattern[v as usize], 0, SingularCase::Restored);
                 }
@@ -1364,6 +1437,75 @@ impl GeometryLayer {
         self.realign_rulings(sp);
         self.isometry(sp, fixed, obstacles, driven, start_normals);
         self.sync_positions(sp);
+        if self.cfg.coarsen_flat_regions && frame.is_multiple_of(COARSEN_PERIOD_FRAMES) {
+            self.find_coarsening(sp, frame);
+        }
+    }
+
+    /// Step 10, coarsening (module doc, "Coarsening"): the last vertex beyond the initial
+    /// lattice that is not singular, not held or next to a held vertex, whose triangles are
+    /// all flat-region triangles, whose edges are uncreased and bent by less than θ0, which
+    /// moves with its neighbours (relative speed below [`COARSEN_MAX_REL_SPEED_M_S`]) and which
+    /// a neighbour can take the place of ([`crate::sheet::coarsen::collapse_target`]) becomes
+    /// the pending coarsening. Only when no other mesh change is pending (the others name
+    /// vertices by index). Allocation-free.
+    fn find_coarsening(&mut self, sp: &PhysMesh, frame: u64) {
+        if self.pending_coarsen.is_some()
+            || self.pending.is_some()
+            || self.pending_flip.is_some()
+            || self.pending_cut_frame.is_some()
+        {
+            return;
+        }
+        let topo = &sp.topo;
+        for v in (self.coarsen_from..sp.num_vertices()).rev() {
+            if self.is_singular[v] || self.near_held[v] {
+                continue;
+            }
+            let (a, b) = (
+                self.vert_tris_start[v] as usize,
+                self.vert_tris_start[v + 1] as usize,
+            );
+            if self.vert_tris[a..b]
+                .iter()
+                .any(|&t| self.curved[t as usize])
+            {
+                continue;
+            }
+            let still = topo.neighbours(v as u32).iter().all(|&j| {
+                let e = topo.find_edge(v as u32, j).map_or(0, |e| e as usize);
+                self.out.edge_dihedral_rad[e].abs() < THETA0_RAD
+                    && sp.edge_rest_angle[e] == 0.0
+                    && sp.edge_damage[e] == 0.0
+                    && (sp.vel[v] - sp.vel[j as usize]).norm() < COARSEN_MAX_REL_SPEED_M_S
+            });
+            if still
+                && crate::sheet::coarsen::collapse_target(sp, v as u32, &self.vert_tris[a..b])
+                    .is_some()
+            {
+                self.pending_coarsen = Some((v as u32, frame));
+                return;
+            }
+        }
+    }
+
+    /// The vertex found to be taken out of a flat region, if any (taken: the sim collapses it,
+    /// [`crate::sheet::coarsen::collapse_vertex`], then calls [`Self::vertex_collapsed`] on
+    /// the layer rebuilt for the new mesh; an undone frame drops it).
+    pub fn take_pending_coarsen(&mut self) -> Option<u32> {
+        self.pending_coarsen.take().map(|(v, _)| v)
+    }
+
+    /// The vertex waiting to be taken out of a flat region, if any.
+    pub fn pending_coarsen(&self) -> Option<u32> {
+        self.pending_coarsen.map(|(v, _)| v)
+    }
+
+    /// Reports that vertex `removed` (its index before) was merged into `into` (its index
+    /// now) as this frame's event.
+    pub fn vertex_collapsed(&mut self, removed: u32, into: u32) {
+        self.out
+            .push_event(ShapeEvent::VertexCollapsed { removed, into });
     }
 
     /// Step 1: dihedral angles, shape operators, ruling directions, bends.
@@ -2161,16 +2303,40 @@ impl GeometryLayer {
     /// keep their index; `tri_parent` names each new triangle's old triangle): the persistent
     /// state goes through [`Self::save`] / [`Self::restore`] as for a saved sheet, with the
     /// per-triangle state (curved flags, refractory frames) taken from the parent triangle;
-    /// this frame's events and counters are kept. Allocates (a connectivity change).
+    /// this frame's events and counters are kept. After a coarsening ([`crate::sheet::coarsen`],
+    /// `removed`: the vertex taken out) every vertex index after `removed` moves down by one,
+    /// in the saved state as in the mesh. Allocates (a connectivity change).
     pub fn remeshed(
         &self,
         sp: &PhysMesh,
         sg: &mut GeomStructure,
         tri_parent: &[u32],
+        removed: Option<u32>,
         mat: &PaperMaterial,
         seed: u64,
     ) -> Result<Self, String> {
         let mut saved = self.save();
+        if let Some(r) = removed {
+            let map =
+                |v: u32| crate::sheet::coarsen::new_index(r, v).ok_or("a removed vertex is named");
+            for s in &mut saved.singular {
+                s.0 = map(s.0)?;
+            }
+            if let Some(p) = &mut saved.pending_singular {
+                p.1 = map(p.1)?;
+            }
+            if let Some(f) = &mut saved.pending_flip {
+                f.0 = [map(f.0[0])?, map(f.0[1])?];
+            }
+            if let Some((line, _)) = &mut saved.pending_cut {
+                for c in line {
+                    c.0 = [map(c.0[0])?, map(c.0[1])?];
+                }
+            }
+            if let Some(c) = &mut saved.pending_coarsen {
+                c.0 = map(c.0)?;
+            }
+        }
         saved.curved = tri_parent
             .iter()
             .map(|&t| self.curved[t as usize])
@@ -2186,8 +2352,15 @@ impl GeometryLayer {
         for (t, &p) in tri_parent.iter().enumerate() {
             g.prev_curved[t] = self.prev_curved[p as usize];
         }
-        let nv = self.junction_prev.len().min(g.junction_prev.len());
-        g.junction_prev[..nv].copy_from_slice(&self.junction_prev[..nv]);
+        let kept = self
+            .junction_prev
+            .iter()
+            .enumerate()
+            .filter(|&(v, _)| removed != Some(v as u32))
+            .map(|(_, &j)| j);
+        for (slot, j) in g.junction_prev.iter_mut().zip(kept) {
+            *slot = j;
+        }
         g.out.frame = self.out.frame;
         g.out.events.clone_from(&self.out.events);
         g.out.events_dropped = self.out.events_dropped;
@@ -2978,6 +3151,7 @@ mod tests {
                 &sp2,
                 &mut sg2,
                 &flip.tri_parent,
+                None,
                 &PaperMaterial::of(crate::control::Material::Printer),
                 1,
             )
@@ -3130,6 +3304,7 @@ mod tests {
                 m,
                 &mut sg2,
                 &cut.tri_parent,
+                None,
                 &PaperMaterial::of(crate::control::Material::Printer),
                 1,
             )
@@ -3173,6 +3348,40 @@ mod tests {
             s2.pending_cut = Some((bad, 9));
             assert!(layer(&sp).restore(&sp, &mut sg, Some(&s2)).is_err());
         }
+    }
+
+    #[test]
+    fn a_pending_coarsening_survives_save_and_restore_and_a_corrupt_one_is_refused() {
+        let (sp, mut sg) = sheet();
+        let nv = sp.num_vertices() as u32;
+        let mut g = layer(&sp);
+        // Pretend the last four vertices came after the lattice.
+        g.coarsen_from = nv as usize - 4;
+        g.pending_coarsen = Some((nv - 2, 40));
+        let saved = g.save();
+        let mut r = layer(&sp);
+        r.restore(&sp, &mut sg, Some(&saved)).unwrap();
+        assert_eq!(r.pending_coarsen(), Some(nv - 2));
+        assert_eq!(r.save(), saved);
+        // A lattice vertex, a vertex out of range, a lattice larger than the mesh.
+        for (from, pending) in [
+            (Some(nv - 4), Some((nv - 5, 40))),
+            (Some(nv - 4), Some((nv, 40))),
+            (Some(nv + 1), None),
+        ] {
+            let mut s2 = saved.clone();
+            s2.coarsen_from = from;
+            s2.pending_coarsen = pending;
+            assert!(layer(&sp).restore(&sp, &mut sg, Some(&s2)).is_err());
+        }
+        // A save from before coarsening: every vertex present stays.
+        let mut old = saved.clone();
+        old.coarsen_from = None;
+        old.pending_coarsen = None;
+        let mut o = layer(&sp);
+        o.restore(&sp, &mut sg, Some(&old)).unwrap();
+        assert_eq!(o.coarsen_from, sp.num_vertices());
+        assert_eq!(o.pending_coarsen(), None);
     }
 
     /// Digest §8 test 3, case {∂S, singular on a crease} (Fig. 6c): a sheet folded along a

@@ -18,7 +18,10 @@
 //!   drawn position).
 //! - [`cut`]: cutting S_P along a straight pattern line with state transfer (a strip's ruling
 //!   becomes a chain of S_P edges).
+//! - [`coarsen`]: removing a vertex of a flat region by an edge collapse with state transfer
+//!   (a cut taken out again once the sheet is flat there).
 
+pub mod coarsen;
 pub mod cut;
 pub mod geometric;
 pub mod pattern;

@@ -276,6 +276,9 @@ pub struct Sim {
     flipped_edges: u64,
     /// Strips cut into S_P ([`crate::geometry::GeometryConfig::cut_strips`]).
     cut_strips: u64,
+    /// S_P vertices taken out of flat regions
+    /// ([`crate::geometry::GeometryConfig::coarsen_flat_regions`]).
+    collapsed_vertices: u64,
     analysis: SoundAnalysis,
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
@@ -356,6 +359,7 @@ impl Sim {
             inserted_vertices: 0,
             flipped_edges: 0,
             cut_strips: 0,
+            collapsed_vertices: 0,
             analysis,
             proximity: {
                 // Vertices inserted at singular points make pairs of triangles a fraction of an
@@ -484,13 +488,14 @@ impl Sim {
     }
 
     /// True if the next [`Self::step`] starts by inserting an S_P vertex for a singular point
-    /// drawn in the last frame, by flipping a compressed edge found then, or by cutting a new
-    /// strip (sim/remesh.rs):
+    /// drawn in the last frame, by flipping a compressed edge found then, by cutting a new
+    /// strip or by taking a vertex out of a flat region (sim/remesh.rs):
     /// that step allocates (a new mesh), every other step does not. A host that steps the sheet on its audio thread permits it there.
     pub fn refinement_pending(&self) -> bool {
         self.geometry.pending_singular().is_some()
             || self.geometry.pending_flip().is_some()
             || self.geometry.pending_cut().is_some()
+            || self.geometry.pending_coarsen().is_some()
     }
 
     /// S_P vertices inserted at singular points' drawn positions since this sim was made
@@ -508,6 +513,12 @@ impl Sim {
     /// Strips cut into S_P since this sim was made (sim/remesh.rs; not saved with the sheet).
     pub fn cut_strips(&self) -> u64 {
         self.cut_strips
+    }
+
+    /// S_P vertices taken out of flat regions since this sim was made (sim/remesh.rs; not
+    /// saved with the sheet).
+    pub fn collapsed_vertices(&self) -> u64 {
+        self.collapsed_vertices
     }
 
     /// Frames that ran the physics (not asleep) since creation.
@@ -797,6 +808,10 @@ impl Sim {
         if let Some(p) = self.geometry.take_pending_singular() {
             self.place_pending_singular(&p);
         }
+        // Found only when nothing else was pending (the others name vertices by index).
+        if let Some(v) = self.geometry.take_pending_coarsen() {
+            self.collapse_pending_vertex(v);
+        }
         if self.asleep {
             self.geometry.idle_frame(self.frame);
             out.stats = self.stats(true, 0, 0, 0);
@@ -899,6 +914,7 @@ impl Sim {
                 self.geometry.take_pending_singular();
                 self.geometry.take_pending_flip();
                 self.geometry.take_pending_cut();
+                self.geometry.take_pending_coarsen();
             } else {
                 self.rig.state.undo_streak = 0;
             }

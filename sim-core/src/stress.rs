@@ -89,6 +89,12 @@ pub struct StressReport {
     pub max_singular: usize,
     /// Largest c_mean of one frame, %.
     pub max_c_mean_pct: f64,
+    /// Most S_P vertices on one sheet.
+    pub max_vertices: usize,
+    /// Strips cut into S_P (`GeometryConfig::cut_strips`).
+    pub cut_strips: u64,
+    /// S_P vertices taken out of flat regions again (`GeometryConfig::coarsen_flat_regions`).
+    pub collapsed_vertices: u64,
     /// First violation, if any (frame, description).
     pub failure: Option<(u64, String)>,
 }
@@ -251,6 +257,9 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
             singular_pos.push(s.pos2);
         }
         rep.max_singular = rep.max_singular.max(n);
+        rep.max_vertices = rep.max_vertices.max(sim.sheet().sp.num_vertices());
+        rep.cut_strips = sim.cut_strips();
+        rep.collapsed_vertices = sim.collapsed_vertices();
         rep.max_c_mean_pct = rep.max_c_mean_pct.max(m.c_mean_pct);
         if m.c_mean_pct.is_nan() || m.c_mean_pct >= MAX_C_MEAN_PCT {
             rep.failure = Some((f, format!("c_mean {} %", m.c_mean_pct)));

@@ -102,7 +102,7 @@ fn main() {
         asleep += r.asleep_frames;
         cmds += r.commands;
         println!(
-            "session {s:3} seed {:3}: {:7} frames, {:6} commands, {:6} asleep, vmax {:6.2} m/s, KE {:.2e} J, strain {:.3}, flips {}, recoveries {}, singular ≤ {}, c_mean ≤ {:.3} %",
+            "session {s:3} seed {:3}: {:7} frames, {:6} commands, {:6} asleep, vmax {:6.2} m/s, KE {:.2e} J, strain {:.3}, flips {}, recoveries {}, singular ≤ {}, c_mean ≤ {:.3} %, vertices ≤ {}, cuts {}, taken out {}",
             seed + s,
             r.frames,
             r.commands,
@@ -113,7 +113,10 @@ fn main() {
             r.flips,
             r.recoveries,
             r.max_singular,
-            r.max_c_mean_pct
+            r.max_c_mean_pct,
+            r.max_vertices,
+            r.cut_strips,
+            r.collapsed_vertices
         );
         if let Some((f, msg)) = r.failure {
             eprintln!("FAIL: session {s} (seed {}), frame {f}: {msg}", seed + s);

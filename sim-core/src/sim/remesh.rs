@@ -36,12 +36,15 @@
 
 use super::Sim;
 use crate::collision::VertexContact;
+use crate::geometry::THETA0_RAD;
 use crate::geometry::{GeometryLayer, PendingFlip, PendingSingular};
 use crate::gesture_rig::GestureRig;
 use crate::math::V3;
 use crate::metrics::MetricsTracker;
 use crate::physics::Physics;
+use crate::physics::sheet_contact::Boost;
 use crate::sheet::Sheet;
+use crate::sheet::coarsen::{self, Collapse};
 use crate::sheet::cut::{self, Cut, EdgeCrossing};
 use crate::sheet::geometric::GeomStructure;
 use crate::sheet::physical::PhysMesh;
@@ -75,7 +78,9 @@ impl Sim {
                     tri_parent,
                     ..
                 } = ins;
-                self.adopt_mesh(mesh, &tri_parent).ok().map(|()| vertex)
+                self.adopt_mesh(mesh, &tri_parent, None)
+                    .ok()
+                    .map(|()| vertex)
             });
         match inserted {
             Some(v) => {
@@ -113,7 +118,7 @@ impl Sim {
             diagonal,
             tri_parent,
         } = flip;
-        if self.adopt_uncrossed(mesh, &tri_parent) {
+        if self.adopt_uncrossed(mesh, &tri_parent, None) {
             self.geometry.edge_flipped(f, diagonal);
             self.flipped_edges += 1;
         }
@@ -140,33 +145,72 @@ impl Sim {
             tri_parent,
             ..
         } = c;
-        if self.adopt_uncrossed(mesh, &tri_parent) {
+        if self.adopt_uncrossed(mesh, &tri_parent, None) {
             self.geometry.strip_cut(chain.len() as u32, added as u32);
             self.cut_strips += 1;
+        }
+    }
+
+    /// Takes vertex `v` out of a flat region as the geometry layer found it last frame
+    /// ([`GeometryLayer::take_pending_coarsen`], [`coarsen::collapse_vertex`]), if the collapse
+    /// is still allowed on the current sheet and does not make the sheet cross itself where it
+    /// did not; reports it as an event. Vertices after `v` move down by one index.
+    pub(super) fn collapse_pending_vertex(&mut self, v: u32) {
+        let Ok(c) = coarsen::collapse_vertex(&self.sheet.sp, v, THETA0_RAD) else {
+            return;
+        };
+        let Collapse {
+            mesh,
+            removed,
+            into,
+            tri_parent,
+            ..
+        } = c;
+        let into_now = coarsen::new_index(removed, into).unwrap_or(into);
+        if self.adopt_uncrossed(mesh, &tri_parent, Some(removed)) {
+            self.geometry.vertex_collapsed(removed, into_now);
+            self.collapsed_vertices += 1;
         }
     }
 
     /// The common end of a flip and a cut (a connectivity change with the sheet's shape kept):
     /// starts this frame's events, wakes the sheet, and adopts `mesh` unless it crosses itself
     /// where S_P did not. Returns whether it was adopted.
-    fn adopt_uncrossed(&mut self, mesh: PhysMesh, tri_parent: &[u32]) -> bool {
+    fn adopt_uncrossed(
+        &mut self,
+        mesh: PhysMesh,
+        tri_parent: &[u32],
+        removed: Option<u32>,
+    ) -> bool {
         self.geometry.start_events_early();
         self.wake();
         // The old mesh is checked only when the new one crosses (one sweep fewer).
         if self.proximity.any_crossing(&mesh) && !self.proximity.any_crossing(&self.sheet.sp) {
             return false;
         }
-        if self.adopt_mesh(mesh, tri_parent).is_err() {
+        if self.adopt_mesh(mesh, tri_parent, removed).is_err() {
             return false;
         }
         self.sheet.sg.pull_positions(&self.sheet.sp);
         true
     }
 
-    /// Replaces S_P by `mesh` (refined or flipped: old vertices keep their index, `tri_parent`
+    /// Replaces S_P by `mesh` (refined, flipped or cut: old vertices keep their index; or
+    /// coarsened: `removed` is gone and the vertices after it move down by one; `tri_parent`
     /// names each triangle's old triangle) and rebuilds what is sized by it. Nothing changes
     /// if an error is returned.
-    fn adopt_mesh(&mut self, mesh: PhysMesh, tri_parent: &[u32]) -> Result<(), String> {
+    fn adopt_mesh(
+        &mut self,
+        mesh: PhysMesh,
+        tri_parent: &[u32],
+        removed: Option<u32>,
+    ) -> Result<(), String> {
+        let map = |v: u32| match removed {
+            Some(r) => {
+                coarsen::new_index(r, v).ok_or_else(|| "a removed vertex is named".to_string())
+            }
+            None => Ok(v),
+        };
         let n = mesh.num_vertices();
         let sg = GeomStructure::initial(&mesh);
         let mut sheet = Sheet {
@@ -182,21 +226,45 @@ impl Sim {
             &sheet.sp,
             &mut sheet.sg,
             tri_parent,
+            removed,
             &self.material,
             self.cfg.seed,
         )?;
         let mut rig = GestureRig::new(&sheet, self.cfg.room.home_height_m());
         rig.state = self.rig.state.clone();
-        let (ownership, suppressed, pending) = self.rig.ownership_state();
+        let (mut ownership, suppressed, pending) = self.rig.ownership_state();
+        for o in &mut ownership {
+            o.0 = map(o.0)?;
+        }
         rig.restore_ownership(&ownership, suppressed, pending)?;
-        // Old vertices keep their index, so the contact boosts stay valid.
+        // Old vertices keep their index (or move down with the removed one's): the contact
+        // boosts follow them; a boost at a removed vertex goes.
         let mut physics = Physics::new(&sheet.sp);
-        physics.set_contact_boosts(self.physics.contact_boosts(), sheet.sp.num_vertices())?;
+        let boosts: Vec<Boost> = self
+            .physics
+            .contact_boosts()
+            .iter()
+            .filter_map(|b| {
+                let mut b = *b;
+                for v in &mut b.verts {
+                    *v = map(*v).ok()?;
+                }
+                Some(b)
+            })
+            .collect();
+        physics.set_contact_boosts(&boosts, sheet.sp.num_vertices())?;
         self.physics = physics;
         self.metrics = MetricsTracker::new(&sheet.sp);
         self.geometry = geometry;
         self.rig = rig;
         self.sheet = sheet;
+        if let Some(r) = removed {
+            let r = r as usize;
+            self.fixed.remove(r);
+            self.kin_target.remove(r);
+            self.forces.remove(r);
+            self.contacts.remove(r);
+        }
         self.fixed.resize(n, false);
         self.kin_target.resize(n, V3::zeros());
         self.forces.resize(n, V3::zeros());
@@ -436,6 +504,129 @@ mod tests {
         }
         assert!(sim.cut_strips() >= 1);
         assert_eq!(sim.cut_strips(), restored.cut_strips());
+    }
+
+    /// A sheet held at both short edges is arched (front edge slid halfway to the back) and
+    /// let go onto the table: the arch's first strips are cut into S_P, and once the sheet
+    /// lies flat and still again, coarsening takes every cut vertex out.
+    const ARCH_AND_RELEASE: &str = r#"
+version = 1
+duration_s = 4.0
+[set]
+size = "a4"
+material = "printer"
+seed = 2
+[[grab]]
+slot = "back"
+on_s = 0.0
+off_s = 1.6
+[[grab]]
+slot = "front"
+on_s = 0.0
+off_s = 1.6
+[[lane]]
+id = "slide"
+interp = "smooth"
+points = [[0.0, 0.0], [0.6, 0.5], [1.5, 0.0]]
+"#;
+
+    fn arch_and_release(coarsen: bool) -> (Sim, ScriptRunner) {
+        let script = crate::script::Script::parse(ARCH_AND_RELEASE).unwrap();
+        let mut base = SimConfig::default();
+        base.geometry.cut_strips = true;
+        base.geometry.coarsen_flat_regions = coarsen;
+        let runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
+        let sim = runner.start(base);
+        (sim, runner)
+    }
+
+    #[test]
+    fn cut_vertices_are_taken_out_once_the_sheet_is_flat_again() {
+        let (mut sim, mut runner) = arch_and_release(true);
+        let lattice = sim.sheet().sp.clone();
+        let mut out = FrameOutput::default();
+        let (mut most, mut events) = (0, 0);
+        loop {
+            let announced = sim.geometry_layer().pending_coarsen();
+            if announced.is_some() {
+                assert!(sim.refinement_pending());
+            }
+            let nv = sim.sheet().sp.num_vertices();
+            if !runner.drive(&mut sim, &mut out) {
+                break;
+            }
+            most = most.max(sim.sheet().sp.num_vertices());
+            assert!(
+                out.stats.max_strain < 0.1,
+                "strain {}",
+                out.stats.max_strain
+            );
+            for e in &sim.geometry().events {
+                if let ShapeEvent::VertexCollapsed { removed, .. } = *e {
+                    assert_eq!(Some(removed), announced, "announced the frame before");
+                    assert_eq!(sim.sheet().sp.num_vertices(), nv - 1);
+                    events += 1;
+                }
+            }
+        }
+        assert!(sim.cut_strips() >= 1, "no strip cut");
+        assert!(most > lattice.num_vertices(), "the cuts added no vertex");
+        assert_eq!(events, sim.collapsed_vertices());
+        // Every vertex a cut added is gone: the lattice's vertices remain, unmoved in the
+        // pattern, with as many triangles as the lattice has.
+        let sp = &sim.sheet().sp;
+        assert_eq!(sp.num_vertices(), lattice.num_vertices());
+        assert_eq!(sp.pattern, lattice.pattern);
+        assert_eq!(sp.num_triangles(), lattice.num_triangles());
+        assert_eq!(
+            sim.collapsed_vertices() as usize,
+            most - lattice.num_vertices()
+        );
+        sp.topo.validate().unwrap();
+        sim.sheet().sg.validate(sp).unwrap();
+        assert!((sp.total_mass_kg() - lattice.total_mass_kg()).abs() < 1e-12);
+        assert_eq!(sim.contacts().len(), sp.num_vertices());
+        assert_eq!(sim.geometry().tri_region.len(), sp.num_triangles());
+        // Without coarsening the same gesture keeps them.
+        let (mut kept, mut runner) = arch_and_release(false);
+        while runner.drive(&mut kept, &mut out) {}
+        assert!(kept.cut_strips() >= 1);
+        assert_eq!(kept.collapsed_vertices(), 0);
+        assert!(kept.sheet().sp.num_vertices() > lattice.num_vertices());
+    }
+
+    /// A sheet saved with a vertex waiting to be taken out restores it and continues
+    /// bit-identically through the collapse.
+    #[test]
+    fn a_pending_coarsening_is_saved_and_replays_exactly() {
+        let (mut sim, mut runner) = arch_and_release(true);
+        let mut o1 = FrameOutput::default();
+        while sim.geometry_layer().pending_coarsen().is_none() {
+            assert!(runner.drive(&mut sim, &mut o1), "nothing to take out");
+        }
+        let mut restored = Sim::restore(*sim.config(), &sim.save()).unwrap();
+        assert_eq!(
+            restored.geometry_layer().pending_coarsen(),
+            sim.geometry_layer().pending_coarsen()
+        );
+        let mut o2 = FrameOutput::default();
+        let mut cmds = Vec::new();
+        for _ in 0..60 {
+            cmds.clear();
+            if !runner.next_frame(&mut cmds) {
+                break;
+            }
+            for c in &cmds {
+                sim.apply(*c);
+                restored.apply(*c);
+            }
+            sim.step(&mut o1);
+            restored.step(&mut o2);
+            assert_eq!(state_hash(&sim), state_hash(&restored));
+            assert_eq!(o1.stats, o2.stats);
+        }
+        assert!(sim.collapsed_vertices() >= 1);
+        assert_eq!(sim.collapsed_vertices(), restored.collapsed_vertices());
     }
 
     /// A refined sheet saved and restored continues bit-identically (the insertion rebuilds
