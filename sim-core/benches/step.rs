@@ -115,13 +115,53 @@ fn density(c: &mut Criterion) {
     }
 }
 
-/// Rebuilding everything sized by the mesh — what a vertex insertion, an edge flip or a strip
-/// cut costs on top of its frame (`sim/remesh.rs` adopts the new mesh the way a saved sheet is
-/// restored): a crumpled C5 state with its inserted vertices, restored.
+/// Rebuilding everything sized by the mesh — what a vertex insertion, an edge flip, a strip
+/// cut or a coarsening costs on top of its frame (`sim/remesh.rs` adopts the new mesh the way a
+/// saved sheet is restored): a crumpled C5 state with its inserted vertices, restored; and a
+/// collapse's new mesh.
 fn rebuild(c: &mut Criterion) {
     let (cfg, saved, _) = snapshot("c5_full_crumple", 400, SimConfig::default());
     c.bench_function("rebuild/c5_frame_400/restore", |b| {
         b.iter(|| Sim::restore(cfg, &saved).expect("restore"))
+    });
+    // Coarsening's own part (`sheet/coarsen.rs`): a flat A4 lattice cut along an oblique line,
+    // then the last cut vertex collapsed into a neighbour (the new mesh with its state; the
+    // adoption after it costs what the restore above measures).
+    let sp = Sim::new(SimConfig::default()).sheet().sp.clone();
+    let (o, d) = (
+        sim_core::math::V2::new(0.003, -0.002),
+        sim_core::math::V2::new(0.8, 0.35),
+    );
+    let t0 = (0..sp.num_triangles() as u32)
+        .find(|&t| {
+            let [a, b, c] = sp.triangles[t as usize].map(|i| sp.pattern[i as usize]);
+            let area = sim_core::sheet::pattern::signed_area;
+            area(a, b, o) >= 0.0 && area(b, c, o) >= 0.0 && area(c, a, o) >= 0.0
+        })
+        .expect("a triangle holds the point");
+    let mut line = [Vec::new(), Vec::new()];
+    for (k, dir) in [-d, d].into_iter().enumerate() {
+        sim_core::geometry::walk::walk(&sp, t0, o, dir, 1000, |c| {
+            let h = sp.topo.half_edges[c.half_edge as usize];
+            line[k].push(sim_core::sheet::cut::EdgeCrossing {
+                edge: [h.origin, sp.topo.dest(c.half_edge)],
+                u: c.u,
+            });
+            true
+        });
+    }
+    let [mut line, ahead] = line;
+    line.reverse();
+    line.extend(ahead);
+    let cut = sim_core::sheet::cut::cut_along(&sp, &line)
+        .expect("cut")
+        .mesh;
+    let v = (sp.num_vertices() as u32..cut.num_vertices() as u32)
+        .rev()
+        .find(|&v| sim_core::sheet::coarsen::collapse_vertex(&cut, v, 0.01).is_ok())
+        .expect("a cut vertex collapses");
+    c.bench_function("rebuild/a4_cut/collapse_vertex", |b| {
+        b.iter(|| sim_core::sheet::coarsen::collapse_vertex(&cut, v, 0.01).expect("collapse"))
     });
 }
 
