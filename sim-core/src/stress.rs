@@ -91,9 +91,10 @@ pub struct StressReport {
     pub max_c_mean_pct: f64,
     /// Most S_P vertices on one sheet.
     pub max_vertices: usize,
-    /// Strips cut into S_P (`GeometryConfig::cut_strips`).
+    /// Strips cut into S_P over all sheets of the session (`GeometryConfig::cut_strips`).
     pub cut_strips: u64,
-    /// S_P vertices taken out of flat regions again (`GeometryConfig::coarsen_flat_regions`).
+    /// S_P vertices taken out of flat regions again over all sheets of the session
+    /// (`GeometryConfig::coarsen_flat_regions`).
     pub collapsed_vertices: u64,
     /// First violation, if any (frame, description).
     pub failure: Option<(u64, String)>,
@@ -187,6 +188,7 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
     let mut sheet_frame = 0u64;
     let mut phase_left = 0u64;
     let mut phase = 0u32;
+    let mut last_counts = (0u64, 0u64);
     for f in 0..cfg.frames {
         if phase_left == 0 {
             phase = rng.random_range(0..3);
@@ -258,8 +260,12 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
         }
         rep.max_singular = rep.max_singular.max(n);
         rep.max_vertices = rep.max_vertices.max(sim.sheet().sp.num_vertices());
-        rep.cut_strips = sim.cut_strips();
-        rep.collapsed_vertices = sim.collapsed_vertices();
+        // The counters start again with each new sheet (a reset or size change).
+        let counts = (sim.cut_strips(), sim.collapsed_vertices());
+        let grown = |now: u64, before: u64| if now >= before { now - before } else { now };
+        rep.cut_strips += grown(counts.0, last_counts.0);
+        rep.collapsed_vertices += grown(counts.1, last_counts.1);
+        last_counts = counts;
         rep.max_c_mean_pct = rep.max_c_mean_pct.max(m.c_mean_pct);
         if m.c_mean_pct.is_nan() || m.c_mean_pct >= MAX_C_MEAN_PCT {
             rep.failure = Some((f, format!("c_mean {} %", m.c_mean_pct)));
