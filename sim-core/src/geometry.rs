@@ -230,8 +230,8 @@
 //!   130 → 158) and frame time while the sheet stays bent along them (coarsening, step 11,
 //!   takes a cut's vertices out only where the sheet has opened out flat again). Robustness
 //!   no longer keeps it off: `sim-stress --frames 10000 --seed S --sessions 1 --cut-strips`
-//!   passes for S = 1–24 (2026-11-27, with coarsening; largest strain 0.31–0.94; seed 9 cut
-//!   2 strips and took 12 vertices out again, seed 10 cut 1), as the default does.
+//!   passes for S = 1–24 (2026-11-27, with coarsening; largest strain 0.31–0.94; 13–45 cuts
+//!   per session, 0–12 vertices taken out again), as the default does.
 //! - **Edge flips act on S_P** (step 2 above, digest test 2): the seeds flip edges of the
 //!   coarse S_G triangulation of a flat region so that a fold across its other diagonal can
 //!   be seen (their S_P, resampled from S_G, bends underneath). Here S_G's flat regions are
