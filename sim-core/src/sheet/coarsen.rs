@@ -391,31 +391,12 @@ fn improve(sp: &PhysMesh, tris: &mut [([u32; 3], u32)], u: u32) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sheet::cut::{EdgeCrossing, cut_along};
+    use crate::sheet::cut::cut_along;
+    use crate::sheet::cut::tests::line;
     use crate::sheet::pattern::lattice;
 
     fn flat_sheet() -> PhysMesh {
         PhysMesh::from_pattern(&lattice(0.1, 0.1, 0.1 / 9.0), 0.0, 0.08).unwrap()
-    }
-
-    /// The crossings of the straight line through `o` along `d`, border to border, in order.
-    fn line(sp: &PhysMesh, o: V2, d: V2) -> Vec<EdgeCrossing> {
-        let t0 = locate(&sp.pattern, &sp.triangles, o).unwrap().0 as u32;
-        let mut side = [Vec::new(), Vec::new()];
-        for (k, dir) in [-d, d].into_iter().enumerate() {
-            crate::geometry::walk::walk(sp, t0, o, dir, 1000, |c| {
-                let h = sp.topo.half_edges[c.half_edge as usize];
-                side[k].push(EdgeCrossing {
-                    edge: [h.origin, sp.topo.dest(c.half_edge)],
-                    u: c.u,
-                });
-                true
-            });
-        }
-        let [mut back, ahead] = side;
-        back.reverse();
-        back.extend(ahead);
-        back
     }
 
     /// Collapses every vertex from `first` on that can go, last first; returns the mesh.

@@ -357,14 +357,14 @@ pub fn cut_along(sp: &PhysMesh, crossings: &[EdgeCrossing]) -> Result<Cut, CutEr
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::geometry::walk::walk;
 
     use crate::sheet::refine::tests::bent_sheet as sheet;
 
     /// The crossings of the whole line through `o` along `d`, boundary to boundary, ordered.
-    fn line(sp: &PhysMesh, o: V2, d: V2) -> Vec<EdgeCrossing> {
+    pub(in crate::sheet) fn line(sp: &PhysMesh, o: V2, d: V2) -> Vec<EdgeCrossing> {
         let t0 = locate(&sp.pattern, &sp.triangles, o).unwrap().0 as u32;
         let mut side = [Vec::new(), Vec::new()];
         for (k, dir) in [-d, d].into_iter().enumerate() {
