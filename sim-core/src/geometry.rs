@@ -142,7 +142,8 @@
 //!     `sim/remesh.rs`), one per step and only when no other mesh change is pending, and
 //!     reports [`ShapeEvent::VertexCollapsed`]. The lattice's vertices and singular vertices
 //!     are never taken out, so the mesh never becomes coarser than the lattice, and with
-//!     strip cutting off (the default) nothing is ever taken out. Measured
+//!     strip cutting off (the default) nothing is ever taken out. A sleeping sheet does no
+//!     work, so a cut vertex left when it falls asleep goes once it is woken. Measured
 //!     (`sim-core/examples/coarsen_probe.rs`): a sheet held at both short edges, arched and let
 //!     go (the test script of `sim/remesh.rs`) gets 2 cuts with 4 new vertices in its first
 //!     0.1 s, and all 4 go between frames 301 and 370, as the arch flattens out (one per
