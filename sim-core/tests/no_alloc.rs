@@ -6,7 +6,8 @@
 //! counted, and every other step is. A sheet built on one thread and stepped on another (the
 //! plugin's worker) allocates once on the new thread unless `sim_core::warm_up_thread` ran
 //! there first. The stall handling allocates nothing either: a solve that pins vertices, and a
-//! substep solved again from rest with the hands held back.
+//! substep solved again from rest with the hands held back; nor, with strip cutting on, do the
+//! frames between its cuts and coarsening's collapses (both announced mesh changes).
 
 mod common;
 
@@ -267,4 +268,34 @@ fn a_substep_solved_again_does_not_allocate() {
         n, 0,
         "{n} allocations in a frame that solved a substep again"
     );
+}
+
+/// With strip cutting on, the frames between mesh changes allocate nothing either, the
+/// coarsening search included (`geometry.rs` step 11): a sheet arched and let go
+/// (`tests/fixtures/arch_and_release.toml`) gets cuts and gives their vertices back; every step
+/// but the announced mesh changes is counted.
+#[test]
+fn cutting_and_coarsening_allocate_only_in_their_announced_steps() {
+    let script =
+        sim_core::script::Script::parse(include_str!("fixtures/arch_and_release.toml")).unwrap();
+    let mut cfg = SimConfig::default();
+    cfg.geometry.cut_strips = true;
+    let mut runner =
+        sim_core::script_runner::ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).unwrap();
+    let mut sim = runner.start(cfg);
+    let mut out = FrameOutput::default();
+    let mut cmds = Vec::with_capacity(64);
+    let (mut refined, mut n) = (0, 0);
+    while runner.next_frame(&mut cmds) {
+        n += count(|| {
+            for c in cmds.drain(..) {
+                sim.apply(c);
+            }
+            step(&mut sim, &mut out, &mut refined);
+        });
+    }
+    assert!(sim.cut_strips() >= 1, "no strip cut");
+    assert!(sim.collapsed_vertices() >= 1, "no vertex taken out");
+    assert!(refined as u64 >= sim.cut_strips() + sim.collapsed_vertices());
+    assert_eq!(n, 0, "{n} allocations outside the announced mesh changes");
 }

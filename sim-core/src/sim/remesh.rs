@@ -509,26 +509,7 @@ mod tests {
     /// A sheet held at both short edges is arched (front edge slid halfway to the back) and
     /// let go onto the table: the arch's first strips are cut into S_P, and once the sheet
     /// lies flat and still again, coarsening takes every cut vertex out.
-    const ARCH_AND_RELEASE: &str = r#"
-version = 1
-duration_s = 4.0
-[set]
-size = "a4"
-material = "printer"
-seed = 2
-[[grab]]
-slot = "back"
-on_s = 0.0
-off_s = 1.6
-[[grab]]
-slot = "front"
-on_s = 0.0
-off_s = 1.6
-[[lane]]
-id = "slide"
-interp = "smooth"
-points = [[0.0, 0.0], [0.6, 0.5], [1.5, 0.0]]
-"#;
+    const ARCH_AND_RELEASE: &str = include_str!("../../tests/fixtures/arch_and_release.toml");
 
     fn arch_and_release(coarsen: bool) -> (Sim, ScriptRunner) {
         let script = crate::script::Script::parse(ARCH_AND_RELEASE).unwrap();
