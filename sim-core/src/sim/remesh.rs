@@ -1,4 +1,4 @@
-//! # Refining S_P for a singular vertex, flipping a compressed edge, cutting a strip (the sim's side of [`crate::sheet::refine`] and [`crate::sheet::cut`])
+//! # Refining S_P for a singular vertex, flipping a compressed edge, cutting a strip, taking a cut vertex out again (the sim's side of [`crate::sheet::refine`], [`crate::sheet::cut`] and [`crate::sheet::coarsen`])
 //!
 //! When the geometry layer draws a singular vertex whose nearest S_P vertex cannot move to the
 //! drawn position s̄ in full, it leaves the point pending ([`GeometryLayer::take_pending_singular`]).
@@ -31,8 +31,19 @@
 //! over), refused if the cut mesh would exceed the capacity or cross itself, then the same
 //! carry-over and a [`crate::geometry::ShapeEvent::StripCut`] event.
 //!
-//! Building a mesh allocates: an insertion, a flip or a cut is an event (at most one of each
-//! per frame, announced by [`Sim::refinement_pending`]), like a reset, not a steady-state step.
+//! With [`crate::geometry::GeometryConfig::coarsen_flat_regions`] on (the default), a vertex
+//! the layer found last frame in a flat, still, unheld part of the sheet
+//! ([`GeometryLayer::take_pending_coarsen`]: only a vertex a cut added) is collapsed into a
+//! neighbour: [`coarsen::collapse_vertex`] (checked again on the current sheet), refused if
+//! the sheet would cross itself, then the same carry-over with one difference — the vertices
+//! after the removed one move down by one index, so everything that names vertices is mapped
+//! (the layer's singular list and pending changes, the hands' held vertices, the contact
+//! boosts, the per-vertex buffers) — and a [`crate::geometry::ShapeEvent::VertexCollapsed`]
+//! event. The layer asks for it only when nothing else is pending.
+//!
+//! Building a mesh allocates: an insertion, a flip, a cut or a collapse is an event (at most one
+//! of each per frame, announced by [`Sim::refinement_pending`]), like a reset, not a
+//! steady-state step.
 
 use super::Sim;
 use crate::collision::VertexContact;
