@@ -132,27 +132,7 @@ fn rebuild(c: &mut Criterion) {
         sim_core::math::V2::new(0.003, -0.002),
         sim_core::math::V2::new(0.8, 0.35),
     );
-    let t0 = (0..sp.num_triangles() as u32)
-        .find(|&t| {
-            let [a, b, c] = sp.triangles[t as usize].map(|i| sp.pattern[i as usize]);
-            let area = sim_core::sheet::pattern::signed_area;
-            area(a, b, o) >= 0.0 && area(b, c, o) >= 0.0 && area(c, a, o) >= 0.0
-        })
-        .expect("a triangle holds the point");
-    let mut line = [Vec::new(), Vec::new()];
-    for (k, dir) in [-d, d].into_iter().enumerate() {
-        sim_core::geometry::walk::walk(&sp, t0, o, dir, 1000, |c| {
-            let h = sp.topo.half_edges[c.half_edge as usize];
-            line[k].push(sim_core::sheet::cut::EdgeCrossing {
-                edge: [h.origin, sp.topo.dest(c.half_edge)],
-                u: c.u,
-            });
-            true
-        });
-    }
-    let [mut line, ahead] = line;
-    line.reverse();
-    line.extend(ahead);
+    let line = sim_core::sheet::cut::line_crossings(&sp, o, d).expect("a point on the sheet");
     let cut = sim_core::sheet::cut::cut_along(&sp, &line)
         .expect("cut")
         .mesh;

@@ -50,7 +50,8 @@
 //! a mesh allocates: a collapse is an event, like a cut.
 
 use super::refine::{
-    FLIP_MAX_DIHEDRAL_RAD, MIN_ANGLE_RAD, in_circle, locate, min_angle, with_directed_edge,
+    FLIP_MAX_DIHEDRAL_RAD, MIN_ANGLE_RAD, ccw_min_angle, in_circle, locate, min_angle,
+    with_directed_edge,
 };
 use crate::math::{V2, V3};
 use crate::physics::bending::dihedral;
@@ -127,11 +128,7 @@ fn worst_angle(points: &[V2], tris: &[[u32; 3]]) -> f64 {
     tris.iter()
         .map(|t| {
             let [a, b, c] = t.map(|i| points[i as usize]);
-            if signed_area(a, b, c) <= 0.0 {
-                0.0
-            } else {
-                min_angle(a, b, c)
-            }
+            ccw_min_angle(a, b, c)
         })
         .fold(f64::INFINITY, f64::min)
 }
@@ -229,11 +226,7 @@ pub fn collapse_target(sp: &PhysMesh, v: u32, star: &[u32]) -> Option<u32> {
             .filter(|t| !t.contains(&u))
             .map(|t| {
                 let [a, b, c] = t.map(|i| sp.pattern[if i == v { u } else { i } as usize]);
-                if signed_area(a, b, c) <= 0.0 {
-                    0.0
-                } else {
-                    min_angle(a, b, c)
-                }
+                ccw_min_angle(a, b, c)
             })
             .fold(f64::INFINITY, f64::min);
         if worst >= MIN_ANGLE_RAD

@@ -55,7 +55,9 @@
 //! so per-triangle state follows. Building a mesh allocates: a cut is an event, like a vertex
 //! insertion ([`crate::sheet::refine`]).
 
-use super::refine::{FLIP_MAX_DIHEDRAL_RAD, in_circle, locate, min_angle, with_directed_edge};
+use super::refine::{
+    FLIP_MAX_DIHEDRAL_RAD, ccw_min_angle, in_circle, locate, min_angle, with_directed_edge,
+};
 use crate::math::V2;
 use crate::physics::bending::dihedral;
 use crate::sheet::pattern::{Pattern, signed_area};
@@ -158,11 +160,7 @@ impl Work {
             .iter()
             .map(|t| {
                 let [a, b, c] = t.map(at);
-                if signed_area(a, b, c) <= 0.0 {
-                    0.0
-                } else {
-                    min_angle(a, b, c)
-                }
+                ccw_min_angle(a, b, c)
             })
             .fold(f64::INFINITY, f64::min);
         if worst < CUT_MIN_ANGLE_RAD {
@@ -356,31 +354,38 @@ pub fn cut_along(sp: &PhysMesh, crossings: &[EdgeCrossing]) -> Result<Cut, CutEr
     })
 }
 
+/// The S_P edges the straight pattern line through `o` along `d` crosses, from border to
+/// border, in order along `d`, each with its crossing parameter: the input [`cut_along`]
+/// takes, for a line chosen by hand (the geometry layer passes its propagation walk's own
+/// crossings). `None` if `o` is not on the sheet.
+pub fn line_crossings(sp: &PhysMesh, o: V2, d: V2) -> Option<Vec<EdgeCrossing>> {
+    let t0 = locate(&sp.pattern, &sp.triangles, o)?.0 as u32;
+    let mut side = [Vec::new(), Vec::new()];
+    for (k, dir) in [-d, d].into_iter().enumerate() {
+        crate::geometry::walk::walk(sp, t0, o, dir, 4 * sp.num_triangles(), |c| {
+            let h = sp.topo.half_edges[c.half_edge as usize];
+            side[k].push(EdgeCrossing {
+                edge: [h.origin, sp.topo.dest(c.half_edge)],
+                u: c.u,
+            });
+            true
+        });
+    }
+    let [mut back, ahead] = side;
+    back.reverse();
+    back.extend(ahead);
+    Some(back)
+}
+
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use crate::geometry::walk::walk;
 
     use crate::sheet::refine::tests::bent_sheet as sheet;
 
-    /// The crossings of the whole line through `o` along `d`, boundary to boundary, ordered.
+    /// The crossings of the whole line through `o` along `d` ([`line_crossings`]).
     pub(in crate::sheet) fn line(sp: &PhysMesh, o: V2, d: V2) -> Vec<EdgeCrossing> {
-        let t0 = locate(&sp.pattern, &sp.triangles, o).unwrap().0 as u32;
-        let mut side = [Vec::new(), Vec::new()];
-        for (k, dir) in [-d, d].into_iter().enumerate() {
-            walk(sp, t0, o, dir, 1000, |c| {
-                let h = sp.topo.half_edges[c.half_edge as usize];
-                side[k].push(EdgeCrossing {
-                    edge: [h.origin, sp.topo.dest(c.half_edge)],
-                    u: c.u,
-                });
-                true
-            });
-        }
-        let [mut back, ahead] = side;
-        back.reverse();
-        back.extend(ahead);
-        back
+        line_crossings(sp, o, d).expect("the point is on the sheet")
     }
 
     fn dist_to_line(p: V2, o: V2, d: V2) -> f64 {

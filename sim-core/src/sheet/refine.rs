@@ -149,6 +149,16 @@ pub(super) fn min_angle(a: V2, b: V2, c: V2) -> f64 {
     ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b))
 }
 
+/// Smallest interior angle of the pattern triangle (a, b, c), radians, or 0 if it is not
+/// counter-clockwise (a turned-over or degenerate triangle is the worst shape there is).
+pub(super) fn ccw_min_angle(a: V2, b: V2, c: V2) -> f64 {
+    if signed_area(a, b, c) <= 0.0 {
+        0.0
+    } else {
+        min_angle(a, b, c)
+    }
+}
+
 /// Moves the new vertex `n` (3D) from its barycentric start to where its edges have their
 /// pattern lengths, as far as they can (Gauss–Newton on Σ_j (|x − x_j| − l̄_j)², at most 8
 /// steps, each kept only if it lowers the error and turns no triangle of the star over). In
@@ -421,11 +431,7 @@ fn split_and_flip(
         .filter(|tri| tri.contains(&n))
         .map(|tri| {
             let [a, b, c] = tri.map(|i| points[i as usize]);
-            if signed_area(a, b, c) <= 0.0 {
-                0.0
-            } else {
-                min_angle(a, b, c)
-            }
+            ccw_min_angle(a, b, c)
         })
         .fold(f64::INFINITY, f64::min);
     if worst < MIN_ANGLE_RAD {
@@ -506,11 +512,7 @@ fn flip_quad(sp: &PhysMesh, e: Edge) -> (usize, usize, [[u32; 3]; 2], f64) {
         .iter()
         .map(|t| {
             let [a, b, c] = t.map(|i| sp.pattern[i as usize]);
-            if signed_area(a, b, c) <= 0.0 {
-                0.0
-            } else {
-                min_angle(a, b, c)
-            }
+            ccw_min_angle(a, b, c)
         })
         .fold(f64::INFINITY, f64::min);
     (t1, t2, new_tris, worst)

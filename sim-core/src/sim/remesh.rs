@@ -311,6 +311,34 @@ mod tests {
         (sim, runner)
     }
 
+    /// Plays up to `frames` more frames of `runner`'s script on `sim` and on `restored` (its
+    /// saved and restored copy) side by side, asserting after each that the two states and
+    /// frame statistics are identical; returns the frames played.
+    fn replay_side_by_side(
+        sim: &mut Sim,
+        restored: &mut Sim,
+        runner: &mut ScriptRunner,
+        frames: usize,
+    ) -> usize {
+        let (mut o1, mut o2) = (FrameOutput::default(), FrameOutput::default());
+        let mut cmds = Vec::new();
+        for played in 0..frames {
+            cmds.clear();
+            if !runner.next_frame(&mut cmds) {
+                return played;
+            }
+            for c in &cmds {
+                sim.apply(*c);
+                restored.apply(*c);
+            }
+            sim.step(&mut o1);
+            restored.step(&mut o2);
+            assert_eq!(state_hash(sim), state_hash(restored));
+            assert_eq!(o1.stats, o2.stats);
+        }
+        frames
+    }
+
     #[test]
     fn singular_points_get_vertices_of_their_own_at_their_drawn_positions() {
         let (sim, _) = crumple(true, true, 300);
@@ -499,20 +527,10 @@ mod tests {
             restored.geometry_layer().pending_cut(),
             sim.geometry_layer().pending_cut()
         );
-        let mut o2 = FrameOutput::default();
-        let mut cmds = Vec::new();
-        for _ in 0..40 {
-            cmds.clear();
-            assert!(runner.next_frame(&mut cmds));
-            for c in &cmds {
-                sim.apply(*c);
-                restored.apply(*c);
-            }
-            sim.step(&mut o1);
-            restored.step(&mut o2);
-            assert_eq!(state_hash(&sim), state_hash(&restored));
-            assert_eq!(o1.stats, o2.stats);
-        }
+        assert_eq!(
+            replay_side_by_side(&mut sim, &mut restored, &mut runner, 40),
+            40
+        );
         assert!(sim.cut_strips() >= 1);
         assert_eq!(sim.cut_strips(), restored.cut_strips());
     }
@@ -601,22 +619,7 @@ mod tests {
             restored.geometry_layer().pending_coarsen(),
             sim.geometry_layer().pending_coarsen()
         );
-        let mut o2 = FrameOutput::default();
-        let mut cmds = Vec::new();
-        for _ in 0..60 {
-            cmds.clear();
-            if !runner.next_frame(&mut cmds) {
-                break;
-            }
-            for c in &cmds {
-                sim.apply(*c);
-                restored.apply(*c);
-            }
-            sim.step(&mut o1);
-            restored.step(&mut o2);
-            assert_eq!(state_hash(&sim), state_hash(&restored));
-            assert_eq!(o1.stats, o2.stats);
-        }
+        replay_side_by_side(&mut sim, &mut restored, &mut runner, 60);
         assert!(sim.collapsed_vertices() >= 1);
         assert_eq!(sim.collapsed_vertices(), restored.collapsed_vertices());
     }
@@ -628,21 +631,6 @@ mod tests {
         let (mut sim, mut runner) = crumple(true, true, 260);
         assert!(sim.inserted_vertices() > 0);
         let mut restored = Sim::restore(*sim.config(), &sim.save()).unwrap();
-        let (mut o1, mut o2) = (FrameOutput::default(), FrameOutput::default());
-        let mut cmds = Vec::new();
-        for _ in 0..80 {
-            cmds.clear();
-            if !runner.next_frame(&mut cmds) {
-                break;
-            }
-            for c in &cmds {
-                sim.apply(*c);
-                restored.apply(*c);
-            }
-            sim.step(&mut o1);
-            restored.step(&mut o2);
-            assert_eq!(state_hash(&sim), state_hash(&restored));
-            assert_eq!(o1.stats, o2.stats);
-        }
+        replay_side_by_side(&mut sim, &mut restored, &mut runner, 80);
     }
 }
