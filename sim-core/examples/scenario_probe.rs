@@ -5,7 +5,7 @@
 //! `cargo run --release -p sim-core --example scenario_probe -- [newton|xpbd] SUBSTEPS ITERS
 //! [STRETCH_SCALE] [SPACING_FRAC] [SCENARIO]`; `SHEET_CONTACT=0` switches sheet–sheet contact
 //! off, `INSERT=0` vertex insertion at singular points, `FLIP=0` edge flips; `CUT=1` turns strip
-//! cutting on.
+//! cutting on; `TOL=METRES` sets the Newton tolerance, `STOP=step` stops Newton on the last step alone.
 
 use sim_core::physics::SolverKind;
 use sim_core::scenario;
@@ -43,6 +43,12 @@ fn main() {
     }
     if std::env::var("FLIP").is_ok_and(|v| v == "0") {
         cfg.geometry.flip_compressed_edges = false;
+    }
+    if let Some(t) = std::env::var("TOL").ok().and_then(|v| v.parse().ok()) {
+        cfg.solver.tolerance_m = t;
+    }
+    if std::env::var("STOP").is_ok_and(|v| v == "step") {
+        cfg.solver.stop_on_error_estimate = false;
     }
     if std::env::var("CUT").is_ok_and(|v| v == "1") {
         cfg.geometry.cut_strips = true;

@@ -71,6 +71,10 @@ pub struct SolverConfig {
     pub iterations: u32,
     /// Newton: stop when the largest vertex update is below this, metres.
     pub tolerance_m: f64,
+    /// Newton: also stop when the distance still to go, estimated from the contraction of two
+    /// full steps in a row, is below the tolerance ([`newton`] "Stopping"); `false`: stop on
+    /// the last step alone.
+    pub stop_on_error_estimate: bool,
     /// Multiplier of the material's stretching stiffness k_s (the "medium stiffness" scaling,
     /// see [`crate::material`]).
     pub stretch_scale: f64,
@@ -127,6 +131,7 @@ impl Default for SolverConfig {
             substeps: 1,
             iterations: 10,
             tolerance_m: 1e-6,
+            stop_on_error_estimate: true,
             stretch_scale: 0.03,
             membrane_damping_s: 2e-4,
             bending_damping_s: 1e-3,
@@ -155,6 +160,7 @@ impl SolverConfig {
             substeps: self.substeps.clamp(1, Self::MAX_SUBSTEPS),
             iterations: self.iterations.clamp(1, Self::MAX_ITERATIONS),
             tolerance_m: pos(self.tolerance_m, d.tolerance_m, 1e-12, 1e-2),
+            stop_on_error_estimate: self.stop_on_error_estimate,
             stretch_scale: pos(self.stretch_scale, d.stretch_scale, 1e-5, 1.0),
             membrane_damping_s: pos(self.membrane_damping_s, d.membrane_damping_s, 0.0, 1.0),
             bending_damping_s: pos(self.bending_damping_s, d.bending_damping_s, 0.0, 1.0),

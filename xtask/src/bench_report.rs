@@ -333,6 +333,21 @@ fn variants(quick: bool) -> Vec<Variant> {
         g,
         " (contact Hessian: diagonal blocks only)",
     ));
+    // Newton's stopping rule (sim-core's physics/newton.rs "Stopping"): the last step alone
+    // below the tolerance, the rule before the contraction estimate.
+    v.push(with_geometry(
+        variant(
+            "newton",
+            SolverConfig {
+                stop_on_error_estimate: false,
+                ..SolverConfig::default()
+            },
+            d,
+        ),
+        "geometry",
+        g,
+        " (Newton stops on its last step alone)",
+    ));
     if !quick {
         // Strip cutting (sim-core's sheet/cut.rs), off by default: a new strip's ruling cut
         // into S_P, so its time and error are measured against the default's.
