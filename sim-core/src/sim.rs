@@ -498,25 +498,26 @@ impl Sim {
             || self.geometry.pending_coarsen().is_some()
     }
 
-    /// S_P vertices inserted at singular points' drawn positions since this sim was made
-    /// (sim/remesh.rs; not saved with the sheet).
+    /// S_P vertices inserted at singular points' drawn positions into the current sheet (since
+    /// this sim was made, restored or last rebuilt by a reset or a size change; sim/remesh.rs;
+    /// not saved with the sheet).
     pub fn inserted_vertices(&self) -> u64 {
         self.inserted_vertices
     }
 
-    /// S_P edges flipped in flat regions since this sim was made (sim/remesh.rs; not saved with
-    /// the sheet).
+    /// S_P edges flipped in flat regions of the current sheet (counted as
+    /// [`Self::inserted_vertices`] is).
     pub fn flipped_edges(&self) -> u64 {
         self.flipped_edges
     }
 
-    /// Strips cut into S_P since this sim was made (sim/remesh.rs; not saved with the sheet).
+    /// Strips cut into the current sheet's S_P (counted as [`Self::inserted_vertices`] is).
     pub fn cut_strips(&self) -> u64 {
         self.cut_strips
     }
 
-    /// S_P vertices taken out of flat regions since this sim was made (sim/remesh.rs; not
-    /// saved with the sheet).
+    /// S_P vertices taken out of flat regions of the current sheet (counted as
+    /// [`Self::inserted_vertices`] is).
     pub fn collapsed_vertices(&self) -> u64 {
         self.collapsed_vertices
     }

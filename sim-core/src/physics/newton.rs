@@ -16,9 +16,10 @@
 //!                  or a triangle of x + αΔ is turned by > 90° from x_n: α ← α/2   (≤ 8 halvings)
 //!     (no acceptable α: retry with H + ρ M/h², ρ = 10, 1000 — Levenberg–Marquardt)
 //!     (still none: pin the free vertices of the triangles the last trial turned over, go on)
-//!     x ← x + αΔ;  stop when max |αΔ_i| < tolerance,
-//!                   or when Θ/(1 − Θ)·max |Δ_i| < tolerance, Θ = max |Δ_i| / max |Δ_{i−1}| < ½
-//!                   (two full steps in a row: α = 1, no damping; "Stopping" below)
+//!     x ← x + αΔ;  δ_k = max_i |αΔ_i| (this iteration's step, largest over the vertices)
+//!     stop when δ_k < tolerance,
+//!       or when Θ/(1 − Θ)·δ_k < tolerance with Θ = δ_k / δ_{k−1} < ½
+//!       (two full steps in a row: α = 1, no damping; "Stopping" below)
 //! v = (x − x_n) / h
 //! ```
 //!
