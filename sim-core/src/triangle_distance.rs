@@ -143,6 +143,35 @@ pub fn plane_separation_m(a: [V3; 3], b: [V3; 3]) -> f64 {
     side(a, b).max(side(b, a))
 }
 
+/// A lower bound of the distance between point `p` and triangle `t`, metres: its distance
+/// from the triangle's plane (0 for a degenerate triangle). A handful of flops against the
+/// exact projection of [`point_triangle`]: a pair search rejects most candidates on it.
+#[inline]
+pub fn point_plane_gap_m(p: V3, t: [V3; 3]) -> f64 {
+    let n = (t[1] - t[0]).cross(&(t[2] - t[0]));
+    let l = n.norm();
+    if l <= 0.0 || !l.is_finite() {
+        return 0.0;
+    }
+    ((p - t[0]).dot(&n) / l).abs()
+}
+
+/// A lower bound of the distance between segments `a` and `b`, metres: the distance between
+/// the two lines they lie on, along their common normal (0 for parallel or degenerate
+/// segments, where that normal is not defined). The cheap test before
+/// [`segment_segment`].
+#[inline]
+pub fn line_line_gap_m(a: [V3; 2], b: [V3; 2]) -> f64 {
+    let n = (a[1] - a[0]).cross(&(b[1] - b[0]));
+    let l = n.norm();
+    // Nearly parallel lines: the normal is all rounding, no bound.
+    let scale = (a[1] - a[0]).norm() * (b[1] - b[0]).norm();
+    if l <= 1e-9 * scale || !l.is_finite() {
+        return 0.0;
+    }
+    ((b[0] - a[0]).dot(&n) / l).abs()
+}
+
 /// Distance between triangles `a` and `b`, metres (0 if they intersect).
 pub fn triangle_distance_m(a: [V3; 3], b: [V3; 3]) -> f64 {
     triangle_distance_below_m(a, b, f64::INFINITY)
@@ -320,6 +349,45 @@ mod tests {
             positive += usize::from(lb > 0.0);
         }
         assert!(positive > 100, "{positive}");
+    }
+
+    #[test]
+    fn the_plane_and_line_gaps_never_exceed_the_distance() {
+        // Random features at every scale from 1 mm to 1 m, and near-parallel segments.
+        let mut rng = Pcg32::seed_from_u64(11);
+        let (mut p_used, mut l_used) = (0, 0);
+        for i in 0..20_000 {
+            let s = 10f64.powf(-3.0 + 3.0 * f64::from(i % 100) / 100.0);
+            let off = rand_v3(&mut rng, s);
+            let t = [
+                rand_v3(&mut rng, s),
+                rand_v3(&mut rng, s),
+                rand_v3(&mut rng, s),
+            ];
+            let p = rand_v3(&mut rng, s) + off;
+            let (d, _) = point_triangle(p, t);
+            let g = point_plane_gap_m(p, t);
+            assert!(
+                g <= d * (1.0 + 1e-9) + 1e-15,
+                "plane gap {g} > distance {d}"
+            );
+            p_used += usize::from(g > 0.5 * d);
+            let a = [rand_v3(&mut rng, s), rand_v3(&mut rng, s)];
+            let mut b = [rand_v3(&mut rng, s) + off, rand_v3(&mut rng, s) + off];
+            if i % 10 == 0 {
+                // Almost parallel to `a`.
+                b[1] = b[0] + (a[1] - a[0]) * 0.7 + rand_v3(&mut rng, s * 1e-7);
+            }
+            let (d, _, _) = segment_segment(a, b);
+            let g = line_line_gap_m(a, b);
+            assert!(
+                g <= d * (1.0 + 1e-6) + 1e-12 * s,
+                "line gap {g} > distance {d}"
+            );
+            l_used += usize::from(g > 0.5 * d);
+        }
+        // The bounds are not vacuous.
+        assert!(p_used > 5_000 && l_used > 2_000, "{p_used} {l_used}");
     }
 
     #[test]
