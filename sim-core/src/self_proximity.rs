@@ -36,7 +36,10 @@
 //! `sim-core/examples/scenario_probe.rs`). The closest distance so far also narrows the
 //! sweep's window (pairs whose boxes are farther apart could only be pruned) and bounds the
 //! narrow phase: of a pair's 15 feature pairs, those whose boxes lie farther apart than it are
-//! not measured ([`crate::triangle_distance::triangle_distance_below_m`]); the margin keeps
+//! not measured, nor, since 2026-11-28, those whose point lies farther from the other's plane
+//! or whose edges' lines lie farther apart (same answers; `cargo bench -p sim-core --bench step
+//! -- contact/c5_frame_400/closest_approach` 55.6 → 50.3 µs)
+//! ([`crate::triangle_distance::triangle_distance_below_m`]); the margin keeps
 //! every answer the same (all 12 seed scenes bit-identical; the self-contact phase's mean per
 //! awake frame 0.236 → 0.164 ms in C5 and 0.196 → 0.149 ms in S4, `scenario_probe`,
 //! 2026-11-27). The pattern-gap filter answers from the two

@@ -178,21 +178,26 @@ pub fn triangle_distance_m(a: [V3; 3], b: [V3; 3]) -> f64 {
 }
 
 /// [`triangle_distance_m`] wherever that is below `bound_m`; otherwise some distance of at
-/// least `bound_m`. A vertex–triangle or edge–edge pair whose bounding boxes lie farther apart
-/// than `bound_m` is not measured: its distance is at least its boxes' gap, so it cannot be
-/// the closest pair of a result below the bound (a caller after the smallest distance passes
+/// least `bound_m`. A vertex–triangle or edge–edge pair whose bounding boxes, or whose plane or
+/// lines ([`point_plane_gap_m`], [`line_line_gap_m`]), lie farther apart than `bound_m` is not
+/// measured: its distance is at least that gap, so it cannot be the closest pair of a result
+/// below the bound (a caller after the smallest distance passes
 /// the smallest so far, with a margin far above rounding).
 pub fn triangle_distance_below_m(a: [V3; 3], b: [V3; 3], bound_m: f64) -> f64 {
     if triangles_intersect(a, b) {
         return 0.0;
     }
     let (box_a, box_b) = (bounding_box(&a), bounding_box(&b));
+    // A feature pair whose box gap or cheap lower bound (plane or line distance) exceeds the
+    // bound is not measured; the relative margin keeps rounding from skipping one the exact
+    // measure would put below it.
+    let skip = |lower_m: f64| lower_m > bound_m * (1.0 + 1e-9);
     let mut best = f64::INFINITY;
     for k in 0..3 {
-        if box_gap_m((a[k], a[k]), box_b) <= bound_m {
+        if !skip(box_gap_m((a[k], a[k]), box_b)) && !skip(point_plane_gap_m(a[k], b)) {
             best = best.min(point_triangle(a[k], b).0);
         }
-        if box_gap_m((b[k], b[k]), box_a) <= bound_m {
+        if !skip(box_gap_m((b[k], b[k]), box_a)) && !skip(point_plane_gap_m(b[k], a)) {
             best = best.min(point_triangle(b[k], a).0);
         }
     }
@@ -200,7 +205,9 @@ pub fn triangle_distance_below_m(a: [V3; 3], b: [V3; 3], bound_m: f64) -> f64 {
         for j in 0..3 {
             let ea = [a[i], a[(i + 1) % 3]];
             let eb = [b[j], b[(j + 1) % 3]];
-            if box_gap_m(bounding_box(&ea), bounding_box(&eb)) <= bound_m {
+            if !skip(box_gap_m(bounding_box(&ea), bounding_box(&eb)))
+                && !skip(line_line_gap_m(ea, eb))
+            {
                 best = best.min(segment_segment(ea, eb).0);
             }
         }

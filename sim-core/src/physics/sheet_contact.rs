@@ -455,9 +455,17 @@ struct SweepBox {
 
 impl SweepBox {
     /// Whether this box lies farther than `reach_m` from the box `lo`–`hi` along some axis.
+    /// (Six comparisons without branches: most boxes a sweep meets are apart along one axis
+    /// or another, and which one is unpredictable.)
     #[inline]
     fn apart_from(&self, lo: &[f64; 3], hi: &[f64; 3], reach_m: f64) -> bool {
-        (0..3).any(|k| self.lo[k] - hi[k] > reach_m || lo[k] - self.hi[k] > reach_m)
+        let (a, b) = (self, (lo, hi));
+        (a.lo[0] - b.1[0] > reach_m)
+            | (b.0[0] - a.hi[0] > reach_m)
+            | (a.lo[1] - b.1[1] > reach_m)
+            | (b.0[1] - a.hi[1] > reach_m)
+            | (a.lo[2] - b.1[2] > reach_m)
+            | (b.0[2] - a.hi[2] > reach_m)
     }
 }
 
