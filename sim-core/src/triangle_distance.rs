@@ -143,33 +143,42 @@ pub fn plane_separation_m(a: [V3; 3], b: [V3; 3]) -> f64 {
     side(a, b).max(side(b, a))
 }
 
+/// Smallest sine of the angle between the two vectors whose cross product gives a plane's or
+/// a common normal's direction in [`point_plane_gap_m`] and [`line_line_gap_m`]. Below it
+/// (a sliver triangle, nearly parallel lines) the normal's direction carries more rounding
+/// than the callers' margins (10⁻⁹ relative) cover, and the bound answers 0: the pair is
+/// measured exactly instead.
+const MIN_NORMAL_SINE: f64 = 1e-4;
+
 /// A lower bound of the distance between point `p` and triangle `t`, metres: its distance
-/// from the triangle's plane (0 for a degenerate triangle). A handful of flops against the
-/// exact projection of [`point_triangle`]: a pair search rejects most candidates on it.
-#[inline]
+/// from the triangle's plane (0 for a sliver or degenerate triangle). A handful of flops
+/// against the exact projection of [`point_triangle`]: a pair search rejects most candidates
+/// on it.
+#[inline(always)]
 pub fn point_plane_gap_m(p: V3, t: [V3; 3]) -> f64 {
-    let n = (t[1] - t[0]).cross(&(t[2] - t[0]));
-    let l = n.norm();
-    if l <= 0.0 || !l.is_finite() {
-        return 0.0;
-    }
-    ((p - t[0]).dot(&n) / l).abs()
+    let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+    normal_gap_m(e1.cross(&e2), e1.norm() * e2.norm(), p - t[0])
 }
 
 /// A lower bound of the distance between segments `a` and `b`, metres: the distance between
-/// the two lines they lie on, along their common normal (0 for parallel or degenerate
-/// segments, where that normal is not defined). The cheap test before
+/// the two lines they lie on, along their common normal (0 for nearly parallel or degenerate
+/// segments, where that normal is not well defined). The cheap test before
 /// [`segment_segment`].
-#[inline]
+#[inline(always)]
 pub fn line_line_gap_m(a: [V3; 2], b: [V3; 2]) -> f64 {
-    let n = (a[1] - a[0]).cross(&(b[1] - b[0]));
+    let (da, db) = (a[1] - a[0], b[1] - b[0]);
+    normal_gap_m(da.cross(&db), da.norm() * db.norm(), b[0] - a[0])
+}
+
+/// |d · n| / |n| for a normal `n = u × v` with `scale = |u| |v|`, or 0 where u and v are
+/// within [`MIN_NORMAL_SINE`] of parallel (or not finite).
+#[inline(always)]
+fn normal_gap_m(n: V3, scale: f64, d: V3) -> f64 {
     let l = n.norm();
-    // Nearly parallel lines: the normal is all rounding, no bound.
-    let scale = (a[1] - a[0]).norm() * (b[1] - b[0]).norm();
-    if l <= 1e-9 * scale || !l.is_finite() {
+    if l <= MIN_NORMAL_SINE * scale || !l.is_finite() {
         return 0.0;
     }
-    ((b[0] - a[0]).dot(&n) / l).abs()
+    (d.dot(&n) / l).abs()
 }
 
 /// Distance between triangles `a` and `b`, metres (0 if they intersect).

@@ -83,9 +83,10 @@
 //! [`crate::triangle_distance`] (in C5's second half, a median of 606 edge pairs per search
 //! passed the boxes and 76 of them were within reach). The bounds carry a relative margin, so
 //! the pairs found are the same, in the same order, as without them (all 12 seed scenes'
-//! hashes unchanged); the search takes 0.68× its former time at the smallest reach and 0.84×
+//! hashes unchanged); the search takes 0.62× its former time at the smallest reach and 0.84×
 //! at the largest (`cargo bench -p sim-core --bench step -- contact/c5_frame_400/sheet_pairs`,
-//! 97 → 66 µs and 754 → 632 µs). On a sheet that is nowhere folded over no
+//! 97 → 60 µs and 754 → 635 µs; the bounds are forced inline: left to the compiler, the same
+//! code measured 65–77 µs from one build to the next). On a sheet that is nowhere folded over no
 //! pair survives, and a pair that never comes within d̂ adds exactly nothing (the solve is
 //! bit-identical to one without contact). Buffers are sized in [`SheetContact::new`]; pairs
 //! beyond their capacity are dropped (counted), never allocated.
