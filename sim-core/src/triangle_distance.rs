@@ -156,8 +156,34 @@ const MIN_NORMAL_SINE: f64 = 1e-4;
 /// on it.
 #[inline(always)]
 pub fn point_plane_gap_m(p: V3, t: [V3; 3]) -> f64 {
+    plane_of(t).gap_m(p)
+}
+
+/// A triangle's plane for [`point_plane_gap_m`]: its corner, its (unnormalized) normal and the
+/// product of the two edges' lengths it came from.
+#[derive(Clone, Copy)]
+struct Plane {
+    origin: V3,
+    normal: V3,
+    scale: f64,
+}
+
+impl Plane {
+    /// [`point_plane_gap_m`] of `p` against this plane.
+    #[inline(always)]
+    fn gap_m(&self, p: V3) -> f64 {
+        normal_gap_m(self.normal, self.scale, p - self.origin)
+    }
+}
+
+#[inline(always)]
+fn plane_of(t: [V3; 3]) -> Plane {
     let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
-    normal_gap_m(e1.cross(&e2), e1.norm() * e2.norm(), p - t[0])
+    Plane {
+        origin: t[0],
+        normal: e1.cross(&e2),
+        scale: e1.norm() * e2.norm(),
+    }
 }
 
 /// A lower bound of the distance between segments `a` and `b`, metres: the distance between
@@ -201,12 +227,13 @@ pub fn triangle_distance_below_m(a: [V3; 3], b: [V3; 3], bound_m: f64) -> f64 {
     // bound is not measured; the relative margin keeps rounding from skipping one the exact
     // measure would put below it.
     let skip = |lower_m: f64| lower_m > bound_m * (1.0 + 1e-9);
+    let (plane_a, plane_b) = (plane_of(a), plane_of(b));
     let mut best = f64::INFINITY;
     for k in 0..3 {
-        if !skip(box_gap_m((a[k], a[k]), box_b)) && !skip(point_plane_gap_m(a[k], b)) {
+        if !skip(box_gap_m((a[k], a[k]), box_b)) && !skip(plane_b.gap_m(a[k])) {
             best = best.min(point_triangle(a[k], b).0);
         }
-        if !skip(box_gap_m((b[k], b[k]), box_a)) && !skip(point_plane_gap_m(b[k], a)) {
+        if !skip(box_gap_m((b[k], b[k]), box_a)) && !skip(plane_a.gap_m(b[k])) {
             best = best.min(point_triangle(b[k], a).0);
         }
     }
