@@ -61,6 +61,14 @@ pub fn dihedral(x: &[V3; 4]) -> f64 {
 /// edge or zero-area face), whose bending force is then skipped.
 #[inline]
 pub fn dihedral_grad(x: &[V3; 4]) -> Option<(f64, [V3; 4])> {
+    dihedral_grad_with(x, None)
+}
+
+/// [`dihedral_grad`] given the angle at `x` when it is known already: `known` must be what
+/// [`dihedral`] returns at the same `x` (the same arithmetic, so the same bits), and saves the
+/// `atan2` (the Newton solver's line search measured the angle at the point it accepted).
+#[inline]
+pub fn dihedral_grad_with(x: &[V3; 4], known: Option<f64>) -> Option<(f64, [V3; 4])> {
     let e = x[1] - x[0];
     let e2 = e.norm_squared();
     let na = e.cross(&(x[2] - x[0]));
@@ -72,7 +80,7 @@ pub fn dihedral_grad(x: &[V3; 4]) -> Option<(f64, [V3; 4])> {
         return None;
     }
     let en = e2.sqrt();
-    let theta = (na.cross(&nb).dot(&e) / en).atan2(na.dot(&nb));
+    let theta = known.unwrap_or_else(|| (na.cross(&nb).dot(&e) / en).atan2(na.dot(&nb)));
     let g2 = na * (-en / na2);
     let g3 = nb * (-en / nb2);
     let aa = (x[2] - x[0]).dot(&e) / e2;
@@ -135,7 +143,10 @@ mod tests {
             x[2].z += 0.002;
             x[0].y -= 0.001;
             let (t, g) = dihedral_grad(&x).unwrap();
-            assert!((t - dihedral(&x)).abs() < 1e-15);
+            // Bit-identical: the Newton solver passes `dihedral`'s angle back in.
+            assert_eq!(t.to_bits(), dihedral(&x).to_bits());
+            let (tk, gk) = dihedral_grad_with(&x, Some(t)).unwrap();
+            assert_eq!((tk, gk), (t, g));
             let eps = 1e-8;
             for v in 0..4 {
                 for c in 0..3 {
