@@ -1,3 +1,5 @@
+//! Newton iterations per frame of a scene (`NAME` or `NAME@SEED`), as a histogram; `COUPLING=N`,
+//! `NOGEOM=1`.
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, SimConfig};
@@ -7,7 +9,7 @@ fn main() {
     let script = if name.ends_with(".toml") {
         sim_core::script::Script::from_file(std::path::Path::new(&name)).unwrap()
     } else {
-        scenario::get(&name).unwrap()
+        scenario::get_seeded(&name).unwrap()
     };
     let mut cfg = SimConfig::default();
     cfg.solver.tolerance_m = tol;
@@ -46,8 +48,12 @@ fn main() {
         cm += f64::from(out.stats.c_mean_pct);
         if std::env::var_os("NEWTON_TRACE").is_some() {
             eprintln!(
-                "END f{} it {} undo {}",
-                out.sound.frame, out.stats.iterations, out.stats.undo_streak
+                "END f{} it {} undo {} vmax {:.4} ke {:.3e}",
+                out.sound.frame,
+                out.stats.iterations,
+                out.stats.undo_streak,
+                out.stats.max_speed_m_s,
+                out.stats.kinetic_energy_j
             );
         }
         if out.sound.frame % 100 == 0 {
