@@ -110,8 +110,9 @@ pub struct NewtonSolver {
     held: Vec<bool>,
     /// Per hinge: its dihedral angle at the line search's last trial (`x_trial`), and at the
     /// current iterate once that trial was accepted. The assembly that follows an accepted
-    /// step reads the angle instead of computing it again (the same bits: module doc of
-    /// [`bending`]); a tenth of the assembly's time in the crumples was that `atan2`.
+    /// step reads the angle instead of computing it again (the same bits:
+    /// [`bending::dihedral_grad_with`]); a tenth of the assembly's time in the crumples was that
+    /// `atan2`.
     theta_trial: Vec<f64>,
     theta_pos: Vec<f64>,
 }
