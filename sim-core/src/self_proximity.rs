@@ -44,7 +44,9 @@
 //! awake frame 0.236 → 0.164 ms in C5 and 0.196 → 0.149 ms in S4, `scenario_probe`,
 //! 2026-11-27). The pattern-gap filter answers from the two
 //! triangles' pattern boxes when those are clearly farther apart than the gap, and measures
-//! only the pairs left. The sweep reads the boxes in sweep order from one array and rejects a
+//! only the pairs left; its answer for a pair is kept until the pattern or the triangles change
+//! (at mesh events, or where a hand moves a pattern vertex), so each pair's pattern gap is measured once per mesh,
+//! not once per frame. The sweep reads the boxes in sweep order from one array and rejects a
 //! pair apart by more than the reach along y or z before it computes the gap's norm; the
 //! crossing test computes each vertex's side of the other triangle's plane once and stops
 //! when a triangle lies wholly on one side ([`crate::triangle_distance::triangles_intersect`]).
@@ -84,7 +86,25 @@ pub struct SelfProximity {
     /// The closest pair of the last query, measured first in the next one (speed only: the
     /// result is the same minimum whatever pair comes first).
     last_pair: Option<(u32, u32)>,
+    /// Per unordered pair of triangles (`a · n + b`, a < b): the pattern-gap filter's answer,
+    /// [`PATCH_UNKNOWN`], [`PATCH_ONE`] or [`PATCH_TWO`]. Valid for the pattern, triangles and
+    /// gap it was filled on (`patch_pattern`, `patch_triangles`, `patch_gap_m`); empty when
+    /// the mesh has more than [`PATCH_MEMO_MAX_TRIANGLES`] triangles.
+    patch: Vec<u8>,
+    patch_pattern: Vec<V2>,
+    patch_triangles: Vec<[u32; 3]>,
+    patch_gap_m: f64,
 }
+
+/// Largest mesh whose pattern-gap answers are kept ([`SelfProximity`]`::patch`: one byte per
+/// pair of triangles, 1 MiB at this size).
+const PATCH_MEMO_MAX_TRIANGLES: usize = 1024;
+/// Pair not asked yet.
+const PATCH_UNKNOWN: u8 = 0;
+/// Pair closer than the gap in the pattern: one patch, not measured.
+const PATCH_ONE: u8 = 1;
+/// Pair at least the gap apart in the pattern: two layers, measured.
+const PATCH_TWO: u8 = 2;
 
 impl SelfProximity {
     /// Empty buffers; they grow to the mesh on the first query.
@@ -101,6 +121,11 @@ impl SelfProximity {
             sorted: Vec::with_capacity(triangles),
             min_pattern_gap_m: 0.0,
             last_pair: None,
+            patch: Vec::with_capacity(triangles.min(PATCH_MEMO_MAX_TRIANGLES).pow(2)),
+            // A triangulated sheet has fewer vertices than triangles.
+            patch_pattern: Vec::with_capacity(triangles),
+            patch_triangles: Vec::with_capacity(triangles),
+            patch_gap_m: 0.0,
         }
     }
 
@@ -122,6 +147,25 @@ impl SelfProximity {
         let min_gap_m = self.min_pattern_gap_m;
         let seed = self.last_pair;
         let filtered = min_gap_m > 0.0;
+        let nt = sp.triangles.len();
+        let mut patch = std::mem::take(&mut self.patch);
+        if filtered && nt <= PATCH_MEMO_MAX_TRIANGLES {
+            // The filter's answers depend on the pattern, the triangles and the gap only: kept
+            // until one of them changes (a mesh event, a pattern vertex moved under a hand).
+            let same = patch.len() == nt * nt
+                && self.patch_gap_m == min_gap_m
+                && self.patch_triangles == sp.triangles
+                && self.patch_pattern == sp.pattern;
+            if !same {
+                patch.clear();
+                patch.resize(nt * nt, PATCH_UNKNOWN);
+                self.patch_gap_m = min_gap_m;
+                self.patch_triangles.clone_from(&sp.triangles);
+                self.patch_pattern.clone_from(&sp.pattern);
+            }
+        } else {
+            patch.clear();
+        }
         // The sweep skips pairs whose boxes are apart by more than this (the closest distance
         // so far plus the margin): they could not be measured below it.
         let window = Cell::new(f64::INFINITY);
@@ -140,8 +184,20 @@ impl SelfProximity {
                 if gap_m > best + PRUNE_MARGIN_M {
                     return false;
                 }
-                if filtered && pattern_closer_than(sp, pattern_boxes, a, b, min_gap_m) {
-                    return false;
+                if filtered {
+                    let one_patch = if patch.is_empty() {
+                        pattern_closer_than(sp, pattern_boxes, a, b, min_gap_m)
+                    } else {
+                        let k = a.min(b) as usize * nt + a.max(b) as usize;
+                        if patch[k] == PATCH_UNKNOWN {
+                            let one = pattern_closer_than(sp, pattern_boxes, a, b, min_gap_m);
+                            patch[k] = if one { PATCH_ONE } else { PATCH_TWO };
+                        }
+                        patch[k] == PATCH_ONE
+                    };
+                    if one_patch {
+                        return false;
+                    }
                 }
                 let (ca, cb) = (corners(sp, a), corners(sp, b));
                 // All of one triangle on one side of the other's plane, farther than the best so
@@ -159,6 +215,7 @@ impl SelfProximity {
                 false
             },
         );
+        self.patch = patch;
         self.last_pair = best_pair;
         if best > reach_m { f64::INFINITY } else { best }
     }
@@ -257,16 +314,21 @@ impl SelfProximity {
                 }
                 // Boxes apart by more than the reach along y or z are apart by more than the
                 // reach (the gap is at least that component): skipped before the gap's norm.
-                if lb.y - ha.y > reach_m
-                    || la.y - hb.y > reach_m
-                    || lb.z - ha.z > reach_m
-                    || la.z - hb.z > reach_m
+                // Four comparisons without branches: which of them rejects is unpredictable.
+                if (lb.y - ha.y > reach_m)
+                    | (la.y - hb.y > reach_m)
+                    | (lb.z - ha.z > reach_m)
+                    | (la.z - hb.z > reach_m)
                 {
                     continue;
                 }
+                // Mesh neighbours (most of the boxes that overlap) before the gap's norm.
                 let b = self.order[j];
+                if !disjoint(a, b) {
+                    continue;
+                }
                 let gap_m = box_gap_m(a, b);
-                if gap_m > reach_m || !disjoint(a, b) {
+                if gap_m > reach_m {
                     continue;
                 }
                 if visit(gap_m, a, b, pattern_boxes) {
@@ -452,6 +514,38 @@ mod tests {
             within > 0,
             "the crumple never came within reach: the test checks nothing"
         );
+    }
+
+    /// The pattern-gap answers kept between queries follow the pattern, the triangles and the
+    /// gap: after each changes, a kept query answers as a fresh one.
+    #[test]
+    fn kept_pattern_answers_follow_the_mesh() {
+        let mut sp = flat();
+        let gap_m = 0.75 * MeshConfig::default().spacing_m(SheetSize::Sq10);
+        let fresh = |sp: &PhysMesh, gap_m: f64| {
+            let mut q = SelfProximity::new();
+            q.set_min_pattern_gap_m(gap_m);
+            q.closest_approach_m(sp, 1.0)
+        };
+        let mut kept = SelfProximity::with_capacity(sp.triangles.len());
+        kept.set_min_pattern_gap_m(gap_m);
+        let d0 = kept.closest_approach_m(&sp, 1.0);
+        assert!(d0.is_finite());
+        assert_eq!(d0, fresh(&sp, gap_m));
+        // The pattern shrinks to a third (the 3D sheet stays): pairs that were two layers are
+        // now one patch, and the closest measured pair lies farther away.
+        for p in &mut sp.pattern {
+            *p /= 3.0;
+        }
+        let d1 = kept.closest_approach_m(&sp, 1.0);
+        assert_eq!(d1, fresh(&sp, gap_m));
+        assert!(d1 > d0, "{d1} vs {d0}");
+        // A smaller gap: more pairs measured again.
+        kept.set_min_pattern_gap_m(gap_m / 3.0);
+        assert_eq!(kept.closest_approach_m(&sp, 1.0), fresh(&sp, gap_m / 3.0));
+        // Other triangles: two swapped.
+        sp.triangles.swap(0, 7);
+        assert_eq!(kept.closest_approach_m(&sp, 1.0), fresh(&sp, gap_m / 3.0));
     }
 
     /// A triangle moved onto a far part of the sheet and tilted through it: the closest

@@ -188,7 +188,12 @@ impl SoundAnalysis {
         max_sheet_m: (f64, f64),
         sheet_m: (f64, f64),
     ) -> Self {
-        let mut grid = CurvatureGrid::with_capacity(cfg.grid_spacing_m, max_sheet_m);
+        let mut grid = CurvatureGrid::with_capacity(
+            cfg.grid_spacing_m,
+            max_sheet_m,
+            max_vertices,
+            max_triangles,
+        );
         grid.resize(sheet_m.0, sheet_m.1);
         Self {
             cfg,
