@@ -58,21 +58,26 @@ fn barrier(j: f64) -> (f64, f64, f64) {
     )
 }
 
-/// Area ratio J of a triangle and its gradient (per vertex).
+/// Area ratio J of a triangle, and a closure giving its gradient (per vertex): most
+/// triangles are far from the barrier and never ask for it.
 #[inline]
-fn area_ratio_grad(x: &[V3; 3], rest: &TriRest) -> (f64, [V3; 3]) {
+fn area_ratio_grad(x: &[V3; 3], rest: &TriRest) -> (f64, impl Fn() -> [V3; 3]) {
     let e1 = x[1] - x[0];
     let e2 = x[2] - x[0];
     let n = e1.cross(&e2);
     let nl = n.norm();
     let s = 1.0 / (2.0 * rest.area_m2);
-    if nl <= 0.0 {
-        return (0.0, [V3::zeros(); 3]);
-    }
-    let nh = n / nl;
-    let g1 = e2.cross(&nh) * s;
-    let g2 = nh.cross(&e1) * s;
-    (nl * s, [-(g1 + g2), g1, g2])
+    let j = if nl <= 0.0 { 0.0 } else { nl * s };
+    let grad = move || {
+        if nl <= 0.0 {
+            return [V3::zeros(); 3];
+        }
+        let nh = n / nl;
+        let g1 = e2.cross(&nh) * s;
+        let g2 = nh.cross(&e1) * s;
+        [-(g1 + g2), g1, g2]
+    };
+    (j, grad)
 }
 
 /// Material constants of the membrane, already scaled for the simulation.
@@ -193,9 +198,10 @@ pub fn grad_hess(
     }
     // Collapse barrier.
     let kb = p.lambda_n_m + 2.0 * p.mu_n_m;
-    let (j, gj) = area_ratio_grad(&x, rest);
+    let (j, grad_j) = area_ratio_grad(&x, rest);
     let (wb, dwb, d2wb) = barrier(j);
     if wb > 0.0 {
+        let gj = grad_j();
         e += kb * wb;
         for v in 0..3 {
             grad[v] += gj[v] * (a * kb * dwb);
