@@ -143,6 +143,23 @@ pub fn plane_separation_m(a: [V3; 3], b: [V3; 3]) -> f64 {
     side(a, b).max(side(b, a))
 }
 
+/// A lower bound of the distance between triangles `a` and `b`, metres: their gap along the
+/// line through their centroids (0 where their projections on it overlap). Six dot products:
+/// it separates pairs side by side, where neither lies wholly on one side of the other's
+/// plane ([`plane_separation_m`] answers 0).
+#[inline]
+pub fn centroid_axis_separation_m(a: [V3; 3], b: [V3; 3]) -> f64 {
+    let ca = (a[0] + a[1] + a[2]) / 3.0;
+    let cb = (b[0] + b[1] + b[2]) / 3.0;
+    let Some(u) = (cb - ca).try_normalize(1e-300) else {
+        return 0.0;
+    };
+    let pa = a.map(|x| x.dot(&u));
+    let pb = b.map(|x| x.dot(&u));
+    let gap = pb[0].min(pb[1]).min(pb[2]) - pa[0].max(pa[1]).max(pa[2]);
+    if gap.is_finite() { gap.max(0.0) } else { 0.0 }
+}
+
 /// Smallest sine of the angle between the two vectors whose cross product gives a plane's or
 /// a common normal's direction in [`point_plane_gap_m`] and [`line_line_gap_m`]. Below it
 /// (a sliver triangle, nearly parallel lines) the normal's direction carries more rounding
@@ -379,6 +396,37 @@ mod tests {
             }
         }
         assert!(pruned > 100, "{pruned}");
+    }
+
+    /// The centroid-line gap is a lower bound of the distance, and it separates pairs the
+    /// plane test cannot (side by side, neither wholly on one side of the other's plane).
+    #[test]
+    fn the_centroid_line_gap_never_exceeds_the_distance() {
+        let mut rng = Pcg32::seed_from_u64(7);
+        let (mut positive, mut beyond_planes) = (0, 0);
+        for _ in 0..2000 {
+            let (a, b) = random_pair(&mut rng, 0.06);
+            let (lb, d) = (centroid_axis_separation_m(a, b), triangle_distance_m(a, b));
+            assert!(lb <= d * (1.0 + 1e-12) + 1e-15, "{lb} > {d}");
+            positive += usize::from(lb > 0.0);
+            beyond_planes += usize::from(lb > plane_separation_m(a, b));
+        }
+        assert!(
+            positive > 200 && beyond_planes > 100,
+            "{positive} {beyond_planes}"
+        );
+        // Two triangles side by side in one plane: 2 cm apart along x, no plane gap.
+        let a = [
+            V3::zeros(),
+            V3::new(0.01, 0.0, 0.0),
+            V3::new(0.0, 0.01, 0.0),
+        ];
+        let b = a.map(|v| V3::new(0.03 - v.x, v.y, 0.0));
+        assert_eq!(plane_separation_m(a, b), 0.0);
+        let g = centroid_axis_separation_m(a, b);
+        assert!(g > 0.0 && g <= triangle_distance_m(a, b) + 1e-15, "{g}");
+        // Coincident centroids: no direction, no bound.
+        assert_eq!(centroid_axis_separation_m(a, a), 0.0);
     }
 
     #[test]
