@@ -394,7 +394,9 @@ impl SheetContact {
                 if b.lo[0] > p[0] + reach_m {
                     break;
                 }
-                if b.apart_from(&p, &p, reach_m) {
+                // The box starts before the point plus the reach (above); it may end before
+                // the point minus the reach (the window starts a box width earlier).
+                if (p[0] - b.hi[0] > reach_m) | b.apart_across(&p, &p, reach_m) {
                     continue;
                 }
                 let tri = mesh.triangles[b.id as usize];
@@ -419,7 +421,9 @@ impl SheetContact {
                 if b.lo[0] > a.hi[0] + reach_m {
                     break;
                 }
-                if b.apart_from(&a.lo, &a.hi, reach_m) {
+                // Along the sweep axis the boxes overlap within the reach: `b` starts after `a`
+                // starts and before `a` ends plus the reach.
+                if b.apart_across(&a.lo, &a.hi, reach_m) {
                     continue;
                 }
                 let eb = mesh.topo.edges[b.id as usize].v;
@@ -455,18 +459,16 @@ struct SweepBox {
 }
 
 impl SweepBox {
-    /// Whether this box lies farther than `reach_m` from the box `lo`–`hi` along some axis.
-    /// (Six comparisons without branches: most boxes a sweep meets are apart along one axis
-    /// or another, and which one is unpredictable.)
+    /// Whether this box lies farther than `reach_m` from the box `lo`–`hi` along one of the two
+    /// axes across the sweep (the sweep itself handles the sweep axis, where most of the
+    /// comparisons would be known already). Four comparisons without branches: most boxes a
+    /// sweep meets are apart along one axis or the other, and which one is unpredictable.
     #[inline]
-    fn apart_from(&self, lo: &[f64; 3], hi: &[f64; 3], reach_m: f64) -> bool {
-        let (a, b) = (self, (lo, hi));
-        (a.lo[0] - b.1[0] > reach_m)
-            | (b.0[0] - a.hi[0] > reach_m)
-            | (a.lo[1] - b.1[1] > reach_m)
-            | (b.0[1] - a.hi[1] > reach_m)
-            | (a.lo[2] - b.1[2] > reach_m)
-            | (b.0[2] - a.hi[2] > reach_m)
+    fn apart_across(&self, lo: &[f64; 3], hi: &[f64; 3], reach_m: f64) -> bool {
+        (self.lo[1] - hi[1] > reach_m)
+            | (lo[1] - self.hi[1] > reach_m)
+            | (self.lo[2] - hi[2] > reach_m)
+            | (lo[2] - self.hi[2] > reach_m)
     }
 }
 
