@@ -35,6 +35,9 @@ pub struct Curvature {
     /// Pattern area per triangle, m².
     pub tri_area_m2: Vec<f64>,
     vertex_area: Vec<f64>,
+    /// Per triangle: its (unnormalized) 3D normal and that normal's length, computed once and
+    /// read by the angles of its three edges.
+    tri_normal: Vec<(V3, f64)>,
 }
 
 impl Curvature {
@@ -49,6 +52,7 @@ impl Curvature {
             tri_max_angle_rad: Vec::with_capacity(max_triangles),
             tri_area_m2: Vec::with_capacity(max_triangles),
             vertex_area: Vec::with_capacity(max_vertices),
+            tri_normal: Vec::with_capacity(max_triangles),
         }
     }
 
@@ -77,6 +81,11 @@ impl Curvature {
                 self.vertex_area[v as usize] += area / 3.0;
             }
         }
+        self.tri_normal.clear();
+        self.tri_normal.extend((0..nt).map(|t| {
+            let n = sp.tri_normal(t);
+            (n, n.norm())
+        }));
         for (e, edge) in topo.edges.iter().enumerate() {
             if edge.is_boundary() {
                 continue;
@@ -85,13 +94,12 @@ impl Curvature {
             let hb = edge.he[1];
             let fa = topo.half_edges[ha as usize].face as usize;
             let fb = topo.half_edges[hb as usize].face as usize;
-            let na = sp.tri_normal(fa);
-            let nb = sp.tri_normal(fb);
+            let (na, nan) = self.tri_normal[fa];
+            let (nb, nbn) = self.tri_normal[fb];
             let x0 = sp.pos[topo.half_edges[ha as usize].origin as usize];
             let x1 = sp.pos[topo.dest(ha) as usize];
             let d = x1 - x0;
             let len = d.norm();
-            let (nan, nbn) = (na.norm(), nb.norm());
             if len <= 0.0 || nan <= 0.0 || nbn <= 0.0 {
                 continue;
             }
