@@ -47,8 +47,8 @@
 //! 2026-11-27). The pattern-gap filter answers from the two
 //! triangles' pattern boxes when those are clearly farther apart than the gap, and measures
 //! only the pairs left; its answer for a pair is kept until the pattern or the triangles change
-//! (at mesh events, or where a hand moves a pattern vertex), so each pair's pattern gap is measured once per mesh,
-//! not once per frame. The sweep reads the boxes in sweep order from one array and rejects a
+//! (at mesh events, or where a hand moves a pattern vertex), so each pair's pattern gap is
+//! measured once per mesh, not once per frame. The sweep reads the boxes in sweep order from one array and rejects a
 //! pair apart by more than the reach along y or z before it computes the gap's norm; the
 //! crossing test computes each vertex's side of the other triangle's plane once and stops
 //! when a triangle lies wholly on one side ([`crate::triangle_distance::triangles_intersect`]).
