@@ -52,13 +52,22 @@
 //!    frame_tail -- c5_full_crumple`, same host and hour); the medians did not move. Each u
 //!    has at most 12 non-zeros (four vertices × 3), kept in the factor's order.
 //!
+//! 6. factorize each supernode's diagonal block with faer's dense Cholesky recursing down to
+//!    blocks of [`SUPERNODE_RECURSION_COLS`] columns (faer's default: 64), so the root supernode
+//!    of our crumpled sheets (60–66 columns) and the next largest are factorized as blocks
+//!    updated by matrix products instead of column by column. Measured 2026-11-29 with
+//!    `iter_hist s4_crumple` (the same play to within a few frames' iterations, 26 singular
+//!    points either way), two runs each: mean frame 1.384 / 1.437 ms at 64, 1.347 / 1.371 at 32,
+//!    1.338 / 1.341 at 16, 1.345 / 1.347 at 8, 1.369 / 1.369 at 4. It changes the factor's
+//!    rounding (not its accuracy), so every chaotic crumple runs a slightly different course.
+//!
 //! Each Newton iteration then only zeroes and fills the blocks, scatters them into the CSC
 //! values (rows/columns of kinematic — handle — vertices become identity rows, so the pattern
 //! never changes when hands grab or release), factorizes numerically and solves, with no
 //! allocation. faer runs sequentially (`Par::Seq`): no threads inside the step (determinism).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::linalg::cholesky::llt::factor::{LltParams, LltRegularization};
 use faer::linalg::matmul::matmul;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
@@ -226,7 +235,7 @@ impl BlockSystem {
             "same fill as faer's AMD"
         );
         let req = StackReq::any_of(&[
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, supernode_llt_params()),
             symbolic.solve_in_place_scratch::<f64>(LOW_RANK_CAPACITY, Par::Seq),
             faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
                 LOW_RANK_CAPACITY,
@@ -466,7 +475,7 @@ impl BlockSystem {
                 LltRegularization::default(),
                 Par::Seq,
                 stack,
-                Default::default(),
+                supernode_llt_params(),
             )
             .map_err(|_| SolveError::NotPositiveDefinite)?;
         for (y, &k) in self.permuted_rhs.iter_mut().zip(&self.perm_fwd) {
@@ -598,6 +607,19 @@ fn csc_pattern(
         col_ptr[c + 1] += col_ptr[c];
     }
     (col_ptr, row_idx, scatter)
+}
+
+/// Columns below which faer's dense Cholesky of a supernode's diagonal block stops recursing
+/// (module doc, step 6).
+pub const SUPERNODE_RECURSION_COLS: usize = 16;
+
+/// faer's Cholesky parameters for the numeric factorization (module doc, step 6).
+fn supernode_llt_params() -> faer::Spec<LltParams, f64> {
+    LltParams {
+        recursion_threshold: SUPERNODE_RECURSION_COLS,
+        ..<LltParams as faer::Auto<f64>>::auto()
+    }
+    .into()
 }
 
 #[cfg(test)]
