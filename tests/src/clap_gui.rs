@@ -8,7 +8,9 @@
 //! - the host side of the extension (`clap_host_gui`): the plugin may ask to be resized, shown
 //!   or hidden, and reports when its window closed; the test host agrees and counts.
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
 
 use clack_extensions::gui::{
     GuiApiType, GuiConfiguration, GuiSize, HostGuiImpl, PluginGui, Window,
@@ -27,6 +29,25 @@ use crate::clap::{Instance, TestShared};
 pub static RESIZE_REQUESTS: AtomicU64 = AtomicU64::new(0);
 /// "Window closed" notifications from the plugins.
 pub static CLOSED_NOTIFICATIONS: AtomicU64 = AtomicU64::new(0);
+
+/// The process's threads just before the last [`open_editor`] (ids, sorted).
+static THREADS_BEFORE_OPEN: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+
+/// How long [`close_editor`] waits for the editor's threads to end: generous, for loaded
+/// machines.
+const THREAD_END_PATIENCE: Duration = Duration::from_secs(10);
+
+/// This process's thread ids, sorted (empty without procfs).
+pub fn thread_ids() -> Vec<u32> {
+    let mut ids: Vec<u32> = std::fs::read_dir("/proc/self/task")
+        .map(|d| {
+            d.filter_map(|t| t.ok()?.file_name().to_str()?.parse().ok())
+                .collect()
+        })
+        .unwrap_or_default();
+    ids.sort_unstable();
+    ids
+}
 
 impl HostGuiImpl for TestShared {
     fn resize_hints_changed(&self) {}
@@ -158,6 +179,9 @@ pub fn open_editor(inst: &mut Instance, parent: &ParentWindow) -> Result<GuiSize
     if !gui.is_api_supported(&h, config) {
         return Err("the plugin does not support embedded X11 windows".into());
     }
+    *THREADS_BEFORE_OPEN
+        .lock()
+        .unwrap_or_else(|e| e.into_inner()) = thread_ids();
     gui.create(&h, config).map_err(|e| format!("create: {e}"))?;
     // Hosts tell the plugin the display scale; on X11 it may refuse (then it asks X).
     let _ = gui.set_scale(&h, 1.0);
@@ -195,11 +219,33 @@ pub fn editor_size(inst: &mut Instance) -> Result<GuiSize, String> {
     gui.get_size(&h).ok_or_else(|| "get_size failed".into())
 }
 
-/// Hides and destroys the editor.
+/// Hides and destroys the editor, then waits (up to [`THREAD_END_PATIENCE`]) until every thread
+/// started since [`open_editor`] has ended.
+///
+/// `destroy` does not always wait for the window's thread: baseview 0.4.2's window handle, when
+/// dropped, stops the window's event loop and then asks the window to show itself before it
+/// joins the thread, and when the loop has already ended that request fails and the join is
+/// skipped. The thread then tears its GL context down (EGL unloading the Mesa driver) on its
+/// own, and if the test returns meanwhile, that races the process's exit: a segmentation fault
+/// after the test passed (6 of 83 runs of `editor_window_size` on the 2-core host, 2026-11-29; 0 of
+/// 120 with this wait). A host keeps running after `destroy`, so there the thread just ends a
+/// moment later.
 pub fn close_editor(inst: &mut Instance) -> Result<(), String> {
     let h = inst.plugin_handle();
     let gui: PluginGui = h.get_extension().ok_or("no GUI extension")?;
     gui.hide(&h).map_err(|e| format!("hide: {e}"))?;
     gui.destroy(&h);
+    let before = THREADS_BEFORE_OPEN
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .clone();
+    let t0 = Instant::now();
+    while thread_ids()
+        .iter()
+        .any(|t| before.binary_search(t).is_err())
+        && t0.elapsed() < THREAD_END_PATIENCE
+    {
+        std::thread::sleep(Duration::from_millis(5));
+    }
     Ok(())
 }
