@@ -84,6 +84,7 @@ pub mod sheet_view;
 pub mod shell;
 pub mod vec3;
 pub mod window_size;
+pub mod window_threads;
 pub mod xy_pad;
 
 use std::sync::Arc;
@@ -104,6 +105,7 @@ use self::param_widgets::{choice_row, slider_row, toggle_row};
 use self::sheet_view::SheetView;
 use self::shell::Session;
 use self::window_size::MIN_SIZE;
+use self::window_threads::WindowThreads;
 use self::xy_pad::XyPad;
 use crate::db_loader::DbState;
 use crate::engine::{Meters, ViewShared};
@@ -128,6 +130,8 @@ pub struct EditorParts {
     pub meters: Arc<Meters>,
     /// The view buffer and the GUI → audio message queue.
     pub view: Arc<ViewShared>,
+    /// The instance's window threads still running ([`window_threads`]).
+    pub window_threads: Arc<WindowThreads>,
 }
 
 /// Builds the editor.
@@ -135,11 +139,13 @@ pub fn create(
     params: Arc<PapierParams>,
     meters: Arc<Meters>,
     view: Arc<ViewShared>,
+    window_threads: Arc<WindowThreads>,
 ) -> Option<EditorShell> {
     Some(EditorShell::new(EditorParts {
         params,
         meters,
         view,
+        window_threads,
     }))
 }
 
@@ -309,6 +315,8 @@ impl NiceEguiApp for PapierEditor {
         nice_gui_ctx: GuiContext,
         _frame: &mut nice_plug_egui::Frame,
     ) -> Result<(), nice_plug_egui::baseview::HandlerError> {
+        // This runs on the window's thread: the plugin outlives it (window_threads.rs).
+        self.parts.window_threads.enter();
         egui_ctx.set_visuals(egui::Visuals::dark());
         // The saved size is in logical pixels at zoom 1; keyboard zoom would break that.
         egui_ctx.options_mut(|o| o.zoom_with_keyboard = false);

@@ -34,6 +34,7 @@ use nice_plug::prelude::*;
 use sim_core::{Sim, SimConfig};
 use sounddb::SoundDb;
 
+use crate::editor::window_threads::WindowThreads;
 use crate::engine::{Engine, Meters, ParamValues, SimMode, ViewShared};
 use crate::gesture_map::MidiInput;
 use crate::params::PapierParams;
@@ -81,6 +82,8 @@ pub struct Papier {
     params: Arc<PapierParams>,
     meters: Arc<Meters>,
     view: Arc<ViewShared>,
+    /// The editor's window threads still running (`editor/window_threads.rs`).
+    window_threads: Arc<WindowThreads>,
     /// The running engine (between `activate()` and `deactivate()`).
     engine: Option<Engine>,
     /// The sheet while no engine runs, with the store generation it is based on and the
@@ -100,6 +103,7 @@ impl Default for Papier {
             params: Arc::new(PapierParams::default()),
             meters: Arc::new(Meters::default()),
             view: Arc::new(ViewShared::default()),
+            window_threads: Arc::new(WindowThreads::default()),
             engine: None,
             parked: None,
             db: Arc::new(SoundDb::empty()),
@@ -126,9 +130,17 @@ impl Papier {
     }
 }
 
+/// How long closing the plugin waits for an editor window thread baseview did not join.
+const WINDOW_THREAD_PATIENCE: std::time::Duration = std::time::Duration::from_secs(2);
+
 impl Drop for Papier {
     fn drop(&mut self) {
         self.stop_engine();
+        // A window thread baseview did not join may still be tearing down its GL context; the
+        // host may unload the library right after this (editor/window_threads.rs).
+        if !self.window_threads.wait_until_ended(WINDOW_THREAD_PATIENCE) {
+            nice_warn!("an editor window thread is still running as the plugin closes");
+        }
     }
 }
 
@@ -162,7 +174,12 @@ impl Plugin for Papier {
     }
 
     fn editor(&mut self, _async_executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
-        editor::create(self.params.clone(), self.meters.clone(), self.view.clone())
+        editor::create(
+            self.params.clone(),
+            self.meters.clone(),
+            self.view.clone(),
+            self.window_threads.clone(),
+        )
     }
 
     fn activate(

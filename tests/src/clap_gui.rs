@@ -228,8 +228,9 @@ pub fn editor_size(inst: &mut Instance) -> Result<GuiSize, String> {
 /// skipped. The thread then tears its GL context down (EGL unloading the Mesa driver) on its
 /// own, and if the test returns meanwhile, that races the process's exit: a segmentation fault
 /// after the test passed (6 of 83 runs of `editor_window_size` on the 2-core host, 2026-11-29; 0 of
-/// 120 with this wait). A host keeps running after `destroy`, so there the thread just ends a
-/// moment later.
+/// 120 with this wait). The plugin itself now waits for its window threads when it is destroyed
+/// (`plugin/src/editor/window_threads.rs`; 0 of 80 runs crashed with that alone); this wait
+/// makes each close end with the threads it started gone, whatever the plugin does.
 pub fn close_editor(inst: &mut Instance) -> Result<(), String> {
     let h = inst.plugin_handle();
     let gui: PluginGui = h.get_extension().ok_or("no GUI extension")?;
