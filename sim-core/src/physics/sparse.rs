@@ -57,8 +57,9 @@
 //!    of our crumpled sheets (60–66 columns) and the next largest are factorized as blocks
 //!    updated by matrix products instead of column by column. Measured 2026-11-29 with
 //!    `iter_hist s4_crumple` with the constant set to each value (the same play to within a few
-//!    frames' iterations, 26 singular points either way), two runs each: mean frame 1.384 / 1.437 ms at 64, 1.347 / 1.371 at 32,
-//!    1.338 / 1.341 at 16, 1.345 / 1.347 at 8, 1.369 / 1.369 at 4. It changes the factor's
+//!    frames' iterations, 26 singular points either way), two runs each: mean frame 1.384 /
+//!    1.437 ms at 64, 1.347 / 1.371 at 32, 1.338 / 1.341 at 16, 1.345 / 1.347 at 8, 1.369 /
+//!    1.369 at 4. It changes the factor's
 //!    rounding (not its accuracy), so every chaotic crumple runs a slightly different course.
 //!
 //! Each Newton iteration then only zeroes and fills the blocks, scatters them into the CSC
