@@ -15,7 +15,9 @@ use sim_core::sim::{FrameOutput, SimConfig};
 
 fn percentile(v: &mut [usize], p: usize) -> usize {
     v.sort_unstable();
-    v.get((v.len().saturating_sub(1)) * p / 100).copied().unwrap_or(0)
+    v.get((v.len().saturating_sub(1)) * p / 100)
+        .copied()
+        .unwrap_or(0)
 }
 
 fn main() {
