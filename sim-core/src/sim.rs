@@ -74,6 +74,29 @@
 //! `sim-core/tests/fixtures/` (`tests/stalled_substeps.rs`). Counted in
 //! [`FrameStats::held_back_substeps`] (second solves that stood).
 //!
+//! ## An undone frame relaxed
+//!
+//! A frame the pass-through guard undoes goes back to where it started, at rest
+//! (`undo_pass_through`). That start is normally as relaxed as the frame before left it, but
+//! a mesh change made at the frame's start is not: a vertex inserted inside a tight fold
+//! (sim/remesh.rs, sheet/refine.rs) starts with its triangles strained, by up to 0.78 in the
+//! crumples played over seeds (`iter_hist s4_crumple@8`, frame 173), and the frame's own solve,
+//! which would have relaxed it, is the one undone. The undone frame then showed that strain
+//! (to the sound analysis and the display too), and the next frame released it at once. So
+//! when the restored start is strained beyond [`UNDO_RELAX_STRAIN`] (the scenario health
+//! limit, 0.1), the frame's substeps are solved again from it with every hand held where the
+//! frame started, as after a stalled substep ("A substep solved again"). The result stands if
+//! it turns no triangle over, does not pass the sheet through itself and lowers the largest
+//! strain; the sheet is left at rest either way. Measured over C5 and S4 with seeds 1–24 each
+//! (`cargo run --release -p sim-core --example iter_hist -- s4_crumple@SEED`, 48 runs): 4 runs
+//! change, each with its largest strain below the limit now (S4 seeds 2, 8, 18, 19: 0.127 →
+//! 0.071, 0.782 → 0.065, 0.176 → 0.075, 0.265 → 0.081), the same frames undone. In 4 others
+//! (C5 seed 21, S4 seeds 5, 13, 22: 0.16–0.52) the relaxed start crosses the sheet through
+//! itself (the inserted vertex's fold springs through the layer beside it), so it does not
+//! stand and those runs play as before, undone frames and all. No seed scene undoes such a
+//! frame, so none plays differently (`scenario_probe` hashes). Counted in
+//! [`FrameStats::relaxed_undone`].
+//!
 //! ## Sleeping
 //!
 //! A sheet at rest costs nothing: when no handle moves, no gesture or obstacle is settling and
@@ -131,6 +154,9 @@ pub const HOLD_BACK_STRAIN: f64 = 0.5;
 /// A substep solved again with the hands held back stands only if it leaves at most this
 /// fraction of the first solve's strain (module doc, "A substep solved again").
 pub const HOLD_BACK_GAIN: f64 = 0.9;
+/// An undone frame whose start is strained beyond this is relaxed once from it with the hands
+/// held (module doc, "An undone frame relaxed"): the scenario health limit.
+pub const UNDO_RELAX_STRAIN: f64 = 0.1;
 /// Frames in a row the pass-through guard may undo before one frame goes through as simulated
 /// (`Sim::undo_pass_through`).
 pub const MAX_UNDO_STREAK: u32 = 400;
@@ -236,6 +262,10 @@ pub struct FrameStats {
     /// passed the sheet through itself (0 = this frame went through; gesture_rig.rs
     /// "Crumple cap").
     pub undo_streak: u32,
+    /// This frame was undone from a start strained beyond [`UNDO_RELAX_STRAIN`], and solving
+    /// it again from that start with the hands held relaxed it (module doc, "An undone frame
+    /// relaxed"); false in the seed scenes.
+    pub relaxed_undone: bool,
 }
 
 /// What one frame produces.
@@ -654,6 +684,42 @@ impl Sim {
         true
     }
 
+    /// An undone frame leaves the sheet where the frame started, at rest (module doc, "An
+    /// undone frame relaxed"). When that start is strained beyond [`UNDO_RELAX_STRAIN`], the
+    /// frame's substeps are solved again from it with every hand held where the frame
+    /// started; the result stands if it turns no triangle over, does not pass the sheet
+    /// through itself and lowers the largest strain, and it is left at rest. Returns whether
+    /// it stood.
+    fn relax_undone_start(&mut self, dt: f64) -> bool {
+        let sp = &self.sheet.sp;
+        let strain0 = crate::metrics::max_strain(sp, &sp.pos);
+        if strain0 <= UNDO_RELAX_STRAIN {
+            return false;
+        }
+        self.stalled_pos.clone_from(&sp.pos);
+        let n_sub = self.cfg.solver.substeps;
+        let h = dt / f64::from(n_sub);
+        for s in 1..=n_sub {
+            self.rig.fill_kinematics(
+                f64::from(s) / f64::from(n_sub),
+                &mut self.fixed,
+                &mut self.kin_target,
+            );
+            self.solve_substep(h);
+            self.limit_penetration();
+        }
+        let sp = &mut self.sheet.sp;
+        let strain = crate::metrics::max_strain(sp, &sp.pos);
+        let stands = strain < strain0
+            && !crate::physics::turns_a_triangle_over(sp, &self.stalled_pos, &sp.pos)
+            && !self.proximity.any_crossing(sp);
+        if !stands {
+            sp.pos.clone_from(&self.stalled_pos);
+        }
+        sp.vel.fill(V3::zeros());
+        stands
+    }
+
     /// S_P back to the frame's start, at rest. The pattern is not restored: a singular point
     /// placed this frame is persistent, and the vertex it moved in the pattern
     /// (`PhysMesh::move_pattern_vertex`) goes to the restored surface over its new pattern
@@ -902,10 +968,12 @@ impl Sim {
             self.geometry.idle_frame(self.frame);
         }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
+        let mut relaxed_undone = false;
         if guard {
             // The isometry step may just have swept these very positions for crossings.
             let checked = self.cfg.geometry.enabled && self.geometry.checked_uncrossed();
             if !checked && self.undo_pass_through(frame_scale) {
+                relaxed_undone = self.relax_undone_start(dt);
                 self.sheet.sg.pull_positions(&self.sheet.sp);
                 self.geometry.sync_positions(&self.sheet.sp);
                 self.rig.state.undo_streak += 1;
@@ -957,6 +1025,7 @@ impl Sim {
         out.stats.halvings = halvings;
         out.stats.pinned_substeps = pinned;
         out.stats.held_back_substeps = held_back;
+        out.stats.relaxed_undone = relaxed_undone;
     }
 
     fn update_contacts(&mut self) {
@@ -1006,6 +1075,7 @@ impl Sim {
             pinned_substeps: 0,
             held_back_substeps: 0,
             undo_streak: self.rig.state.undo_streak,
+            relaxed_undone: false,
         }
     }
 
