@@ -1,9 +1,9 @@
 //! An undone frame whose start is strained is relaxed (`sim_core::sim`, "An undone frame
 //! relaxed").
 //!
-//! The case: the crumple S4 played with seed 8 (`NAME@SEED`,
-//! `sim_core::scenario::get_seeded`). At the start of frame 173 a singular vertex is inserted
-//! inside a tight fold and its triangles start strained by 0.78; the frame's motion would pass
+//! The cases: the crumple S4 played with seed 8 (`NAME@SEED`,
+//! `sim_core::scenario::get_seeded`). At the start of its 174th frame a singular vertex is
+//! inserted inside a tight fold and its triangles start strained by 0.78; the frame's motion would pass
 //! the sheet through itself, so the guard undoes it. Before the relaxation the undone frame
 //! went back to that strained start and showed a strain of 0.782 (beyond the scenario health
 //! limit of 0.1); solved again from it with the hands held, it ends at 0.065.
@@ -20,33 +20,54 @@ use sim_core::sim::{FrameOutput, SimConfig, UNDO_RELAX_STRAIN};
 
 #[test]
 fn an_undone_frame_that_starts_strained_is_relaxed_with_the_hands_held() {
-    let script = scenario::get_seeded("s4_crumple@8").expect("scene");
+    relaxes_within("s4_crumple@8", 200);
+}
+
+/// S4 with seed 13, its 1 018th frame: the same, but relaxed over the frame's one substep the fold
+/// springs through the layer beside it (the relaxation crosses and cannot stand); over four
+/// shorter substeps it does not. Without the finer retry this frame showed 0.351 and the
+/// guard undid it and the next five.
+/// (The scene's script resets the sheet on the way, so the frames are counted as driven.)
+#[test]
+fn a_relaxation_that_crosses_is_tried_again_with_shorter_substeps() {
+    relaxes_within("s4_crumple@13", 1030);
+}
+
+/// Plays `run` (`NAME@SEED`) for `frames` frames: some undone frame is relaxed, and no undone
+/// frame exceeds the health limit.
+fn relaxes_within(run: &str, frames: u64) {
+    let script = scenario::get_seeded(run).expect("scene");
     let cfg = SimConfig::default();
     let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
     let mut sim = runner.start(cfg);
     let mut out = FrameOutput::default();
     let (mut relaxed, mut undone, mut worst) = (Vec::new(), 0u32, 0.0f32);
-    while sim.frame() < 200 && runner.drive(&mut sim, &mut out) {
+    // Frames driven (the scene's script resets the sheet, and its frame count, on the way).
+    let mut frame = 0u64;
+    while frame < frames && runner.drive(&mut sim, &mut out) {
+        frame += 1;
         if out.stats.relaxed_undone {
             assert!(
                 out.stats.undo_streak > 0,
                 "relaxed a frame that was not undone"
             );
-            relaxed.push(sim.frame());
+            relaxed.push(frame);
         }
-        undone += u32::from(out.stats.undo_streak > 0);
-        worst = worst.max(out.stats.max_strain);
+        if out.stats.undo_streak > 0 {
+            undone += 1;
+            worst = worst.max(out.stats.max_strain);
+        }
     }
     println!(
-        "relaxed undone frames {relaxed:?}, undone frames {undone}, largest strain {worst:.3}"
+        "{run}: relaxed undone frames {relaxed:?}, undone frames {undone}, largest strain {worst:.3}"
     );
     assert!(
         !relaxed.is_empty(),
-        "no undone frame started strained beyond {UNDO_RELAX_STRAIN} in the first 200 frames: \
-         the crumple's course changed; find another run for this test"
+        "{run}: no undone frame started strained beyond {UNDO_RELAX_STRAIN} in the first \
+         {frames} frames: the crumple's course changed; find another run for this test"
     );
     assert!(
         f64::from(worst) < UNDO_RELAX_STRAIN,
-        "largest strain {worst} beyond the health limit"
+        "{run}: an undone frame strained by {worst}, beyond the health limit"
     );
 }
