@@ -3,8 +3,8 @@
 //!
 //! The cases: the crumple S4 played with seed 8 (`NAME@SEED`,
 //! `sim_core::scenario::get_seeded`). At the start of its 174th frame a singular vertex is
-//! inserted inside a tight fold and its triangles start strained by 0.78; the frame's motion would pass
-//! the sheet through itself, so the guard undoes it. Before the relaxation the undone frame
+//! inserted inside a tight fold and its triangles start strained by 0.78; the frame's motion
+//! would pass the sheet through itself, so the guard undoes it. Before the relaxation the undone frame
 //! went back to that strained start and showed a strain of 0.782 (beyond the scenario health
 //! limit of 0.1); solved again from it with the hands held, it ends at 0.065.
 //!
