@@ -80,8 +80,8 @@
 //! (`undo_pass_through`). That start is normally as relaxed as the frame before left it, but
 //! a mesh change made at the frame's start is not: a vertex inserted inside a tight fold
 //! (sim/remesh.rs, sheet/refine.rs) starts with its triangles strained, by up to 0.78 in the
-//! crumples played over seeds (`iter_hist s4_crumple@8`, frame 173), and the frame's own solve,
-//! which would have relaxed it, is the one undone. The undone frame then showed that strain
+//! crumples played over seeds (`iter_hist s4_crumple@8`, its 174th frame), and the frame's
+//! own solve, which would have relaxed it, is the one undone. The undone frame then showed that strain
 //! (to the sound analysis and the display too), and the next frame released it at once. So
 //! when the restored start is strained beyond [`UNDO_RELAX_STRAIN`] (the scenario health
 //! limit, 0.1), the frame's substeps are solved again from it with every hand held where the
@@ -98,8 +98,8 @@
 //! instead of 6. C5 seed 21 and S4 seed 22 undo 3 frames instead of 6 and 8, but their first
 //! undone frames still show 0.49 and 0.52: both relaxations pass the sheet through itself
 //! there, so the strained start stays (a known approximation); so does S4 seed 5's (0.157).
-//! With the fine retry alone the frame's substeps were not tried first, and S4 seed 19's
-//! relaxation crossed (0.265 again). No seed scene undoes such a frame, so none plays
+//! Trying only the shorter substeps (without the frame's own first), S4 seed 19's relaxation
+//! crossed (0.265 again). No seed scene undoes such a frame, so none plays
 //! differently (`scenario_probe` hashes). Counted in [`FrameStats::relaxed_undone`].
 //!
 //! ## Sleeping
@@ -159,8 +159,8 @@ pub const HOLD_BACK_STRAIN: f64 = 0.5;
 /// A substep solved again with the hands held back stands only if it leaves at most this
 /// fraction of the first solve's strain (module doc, "A substep solved again").
 pub const HOLD_BACK_GAIN: f64 = 0.9;
-/// An undone frame whose start is strained beyond this is relaxed once from it with the hands
-/// held (module doc, "An undone frame relaxed"): the scenario health limit.
+/// An undone frame whose start is strained beyond this is relaxed from it with the hands held
+/// (module doc, "An undone frame relaxed"): the scenario health limit.
 pub const UNDO_RELAX_STRAIN: f64 = 0.1;
 /// An undone frame's relaxation that passes the sheet through itself is tried again with this
 /// many times the frame's substeps (module doc, "An undone frame relaxed").
@@ -695,9 +695,10 @@ impl Sim {
     /// An undone frame leaves the sheet where the frame started, at rest (module doc, "An
     /// undone frame relaxed"). When that start is strained beyond [`UNDO_RELAX_STRAIN`], the
     /// frame's substeps are solved again from it with every hand held where the frame
-    /// started; the result stands if it turns no triangle over, does not pass the sheet
-    /// through itself and lowers the largest strain, and it is left at rest. Returns whether
-    /// it stood.
+    /// started, and if that passes the sheet through itself, once more with
+    /// [`UNDO_RELAX_FINE_FACTOR`] times the substeps; a result stands if it turns no triangle
+    /// over, does not pass the sheet through itself and lowers the largest strain. The sheet
+    /// is left at rest. Returns whether a relaxation stood.
     fn relax_undone_start(&mut self, dt: f64) -> bool {
         let sp = &self.sheet.sp;
         let strain0 = crate::metrics::max_strain(sp, &sp.pos);
