@@ -954,6 +954,8 @@ pub struct GeometryLayer {
     uf: Vec<u32>,
     root_region: Vec<u32>,
     order: Vec<u32>,
+    /// Per region, where its curved triangles end in `order` (the trace's buckets).
+    region_end: Vec<u32>,
     covered: Vec<bool>,
     ruling_tris: Vec<u32>,
     strip: Vec<u32>,
@@ -1085,6 +1087,7 @@ impl GeometryLayer {
             uf: (0..nt as u32).collect(),
             root_region: vec![NONE; nt],
             order: Vec::with_capacity(nt),
+            region_end: Vec::with_capacity(nt + ne),
             covered: vec![false; nt],
             ruling_tris: Vec::with_capacity(2 * MAX_WALK + 2),
             strip: Vec::with_capacity(2 * MAX_WALK + 2),
@@ -2591,27 +2594,45 @@ impl GeometryLayer {
     /// one ruling per crease.
     fn trace_rulings(&mut self, sp: &PhysMesh) {
         let nt = sp.num_triangles();
-        self.order.clear();
-        for t in 0..nt {
-            self.covered[t] = false;
-            if self.curved[t] {
-                self.order.push(t as u32);
+        self.covered[..nt].fill(false);
+        // The curved triangles, most bent first (the partition grew its regions in that
+        // order: `grow_order`, the same set and key), bucketed by region by a stable counting
+        // sort, so each region visits its own in that order.
+        let nreg = self.out.regions.len();
+        self.region_end.clear();
+        self.region_end.resize(nreg + 1, 0);
+        for &t in &self.grow_order {
+            let r = self.out.tri_region[t as usize] as usize;
+            if r < nreg {
+                self.region_end[r + 1] += 1;
             }
         }
-        let bend = &self.tri_bend;
-        self.order.sort_unstable_by(|&a, &b| {
-            bend[b as usize]
-                .total_cmp(&bend[a as usize])
-                .then(a.cmp(&b))
-        });
-        for region in 0..self.out.regions.len() {
+        for r in 0..nreg {
+            self.region_end[r + 1] += self.region_end[r];
+        }
+        self.order.clear();
+        self.order.resize(self.region_end[nreg] as usize, 0);
+        for &t in &self.grow_order {
+            let r = self.out.tri_region[t as usize] as usize;
+            if r < nreg {
+                self.order[self.region_end[r] as usize] = t;
+                self.region_end[r] += 1;
+            }
+        }
+        // Each region's bucket now ends where the next one's began.
+        for region in 0..nreg {
             if self.out.regions[region].kind != RegionKind::Curved {
                 continue;
             }
             let first = self.out.rulings.len();
-            for oi in 0..self.order.len() {
+            let bucket_start = if region == 0 {
+                0
+            } else {
+                self.region_end[region - 1] as usize
+            };
+            for oi in bucket_start..self.region_end[region] as usize {
                 let t = self.order[oi] as usize;
-                if self.covered[t] || self.out.tri_region[t] as usize != region {
+                if self.covered[t] {
                     continue;
                 }
                 if self.out.rulings.len() >= self.out.rulings.capacity() {
