@@ -954,7 +954,8 @@ pub struct GeometryLayer {
     uf: Vec<u32>,
     root_region: Vec<u32>,
     order: Vec<u32>,
-    /// Per region, where its curved triangles end in `order` (the trace's buckets).
+    /// Per region, where its curved triangles end in `order` (the trace's buckets); one more
+    /// than the regions' capacity.
     region_end: Vec<u32>,
     covered: Vec<bool>,
     ruling_tris: Vec<u32>,
@@ -1087,7 +1088,7 @@ impl GeometryLayer {
             uf: (0..nt as u32).collect(),
             root_region: vec![NONE; nt],
             order: Vec::with_capacity(nt),
-            region_end: Vec::with_capacity(nt + ne),
+            region_end: Vec::with_capacity(nt + ne + 1),
             covered: vec![false; nt],
             ruling_tris: Vec::with_capacity(2 * MAX_WALK + 2),
             strip: Vec::with_capacity(2 * MAX_WALK + 2),
