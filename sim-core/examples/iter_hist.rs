@@ -1,5 +1,5 @@
 //! Newton iterations per frame of a scene (`NAME` or `NAME@SEED`), as a histogram; `COUPLING=N`,
-//! `NOGEOM=1`.
+//! `NOGEOM=1`, `INS_STRAIN=X` (`GeometryConfig::insertion_max_start_strain`, `inf` = off).
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, SimConfig};
@@ -16,6 +16,12 @@ fn main() {
     if let Some(n) = std::env::var("COUPLING").ok().and_then(|v| v.parse().ok()) {
         cfg.solver.contact_coupling_pairs = n;
     }
+    if let Some(x) = std::env::var("INS_STRAIN")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        cfg.geometry.insertion_max_start_strain = x;
+    }
     if std::env::var_os("NOGEOM").is_some() {
         cfg.geometry.enabled = false;
     }
@@ -26,6 +32,7 @@ fn main() {
     let mut times: Vec<u128> = Vec::new();
     let mut maxs = 0f32;
     let mut undone = 0u32;
+    let mut relaxed = 0u32;
     let mut halv = 0u64;
     let mut frames = 0;
     let mut cm = 0.0;
@@ -45,6 +52,7 @@ fn main() {
         hist[out.stats.iterations.min(11) as usize] += 1;
         halv += u64::from(out.stats.halvings);
         undone += u32::from(out.stats.undo_streak > 0);
+        relaxed += u32::from(out.stats.relaxed_undone);
         cm += f64::from(out.stats.c_mean_pct);
         if std::env::var_os("NEWTON_TRACE").is_some() {
             eprintln!(
@@ -70,13 +78,14 @@ fn main() {
     let med = times[times.len() / 2] as f64 / 1e6;
     let p99 = times[times.len() * 99 / 100] as f64 / 1e6;
     println!(
-        "{name:28} tol {tol:e}: med {med:.3} p99 {p99:.3} maxstrain {maxs:.3} {:?} halv/f {:.2} c_mean {:.4} % sing {} mean {:.3} ms fb {} undone {}",
+        "{name:28} tol {tol:e}: med {med:.3} p99 {p99:.3} maxstrain {maxs:.3} {:?} halv/f {:.2} c_mean {:.4} % sing {} mean {:.3} ms fb {} undone {} relaxed {}",
         hist,
         halv as f64 / frames as f64,
         cm / frames as f64,
         out.stats.num_singular,
         t as f64 / frames as f64 / 1e6,
         0,
-        undone
+        undone,
+        relaxed
     );
 }

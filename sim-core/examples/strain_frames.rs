@@ -14,7 +14,13 @@ fn main() {
         .nth(2)
         .map_or(0.1, |s| s.parse().unwrap_or(0.1));
     let script = scenario::get_seeded(&name).expect("scene");
-    let cfg = SimConfig::default();
+    let mut cfg = SimConfig::default();
+    if let Some(n) = std::env::var("ITERS").ok().and_then(|v| v.parse().ok()) {
+        cfg.solver.iterations = n;
+    }
+    if let Some(n) = std::env::var("SUBSTEPS").ok().and_then(|v| v.parse().ok()) {
+        cfg.solver.substeps = n;
+    }
     let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
     let mut sim = runner.start(cfg);
     let mut out = FrameOutput::default();

@@ -182,7 +182,10 @@
 //!   pattern lengths, state carried over), which then becomes the singular vertex. Where s̄
 //!   falls next to an existing vertex or the split would make thin triangles, the vertex goes
 //!   to the nearest accepted point (≤ half-way to its triangle's centre); where even that is
-//!   refused, the nearest vertex moves part of the way as before.
+//!   refused, the nearest vertex moves part of the way as before. Where s̄ lies just off a
+//!   sharply folded S_P edge, the vertex goes to the foot of s̄ on that edge, so that no new
+//!   triangle spans the fold (`sheet/refine.rs`, step 2): the law's offset across the edge is
+//!   dropped there (an approximation; the seeds' S_P, rebuilt around s̄, has no such edge).
 //!   **On by default** ([`GeometryConfig::insert_singular_vertices`]; off: the nearest vertex
 //!   moves part of the way everywhere and S_P's connectivity never changes). It was opt-in
 //!   while insertion stopped the full crumple early (C5 seed 1: 3 singular points, squeeze
@@ -378,6 +381,13 @@ pub struct GeometryConfig {
     /// and S_P's connectivity never changes). On by default (see the module doc, "A singular
     /// point gets an S_P vertex at s̄").
     pub insert_singular_vertices: bool,
+    /// Largest start strain (|l/l̄ − 1| of its edges) of a vertex inserted at s̄ before the
+    /// insertion looks for a less strained place close by: the foot of s̄ on a folded edge,
+    /// or the nudges of [`crate::sheet::refine::insert_vertex_near`] (see the module doc, "A
+    /// singular point gets an S_P vertex at s̄"). Default
+    /// [`crate::sheet::refine::SPLIT_START_STRAIN_MAX`] (5 %); infinite: at s̄ whatever the
+    /// strain (the behaviour before 2026-11-29, kept for comparisons and tests).
+    pub insertion_max_start_strain: f64,
     /// Flip a compressed S_P edge inside a flat region whose quad's other diagonal is not
     /// compressed (the seeds' flip rule, T 826; done by the sim at the start of the next step,
     /// [`crate::sheet::refine::flip_edge`]). On by default (see the module doc, "Edge flips").
@@ -410,6 +420,7 @@ impl Default for GeometryConfig {
             gauss_min_spacing_m: 0.02,
             isometry: IsometryConfig::default(),
             insert_singular_vertices: true,
+            insertion_max_start_strain: crate::sheet::refine::SPLIT_START_STRAIN_MAX,
             flip_compressed_edges: true,
             cut_strips: false,
             coarsen_flat_regions: true,
@@ -433,6 +444,9 @@ impl GeometryConfig {
         }
         if !(c.gauss_min_spacing_m.is_finite() && (0.0..1.0).contains(&c.gauss_min_spacing_m)) {
             c.gauss_min_spacing_m = Self::default().gauss_min_spacing_m;
+        }
+        if c.insertion_max_start_strain.is_nan() || c.insertion_max_start_strain < 0.0 {
+            c.insertion_max_start_strain = Self::default().insertion_max_start_strain;
         }
         let i = &mut c.isometry;
         i.phase1_max_iters = i.phase1_max_iters.min(200);

@@ -1,19 +1,30 @@
 //! An undone frame whose start is strained is relaxed (`sim_core::sim`, "An undone frame
 //! relaxed").
 //!
-//! The cases: the crumple S4 played with seed 8 (`NAME@SEED`,
-//! `sim_core::scenario::get_seeded`). At the start of its 174th frame a singular vertex is
-//! inserted inside a tight fold and its triangles start strained by 0.78; the frame's motion
-//! would pass the sheet through itself, so the guard undoes it. Before the relaxation the
-//! undone frame went back to that strained start and showed a strain of 0.782 (beyond the
-//! scenario health limit of 0.1); solved again from it with the hands held, it ends at 0.031.
+//! The cases come from the crumples played with other seeds (`NAME@SEED`,
+//! `sim_core::scenario::get_seeded`). Most strained starts were vertices inserted for
+//! singular points just off a sharp fold, whose triangles spanned the fold; those now go on
+//! the fold edge (`sim_core::sheet::refine`, step 2), so the first two cases play with
+//! `GeometryConfig::insertion_max_start_strain` infinite — insertions at s̄ whatever their
+//! strain, as before — to keep the relaxation covered where it matters most:
+//! - S4 with seed 8: at the start of its 174th frame a singular vertex is inserted inside a
+//!   tight fold and its triangles start strained by 0.78; the frame's motion would pass the
+//!   sheet through itself, so the guard undoes it. Before the relaxation the undone frame went
+//!   back to that strained start and showed 0.782 (beyond the scenario health limit of 0.1);
+//!   solved again from it with the hands held, it ends at 0.031.
+//! - S4 with seed 13 (its 1 018th driven frame): the same, but the relaxation over the
+//!   frame's one substep springs the fold through the layer beside it; over four shorter
+//!   substeps it does not.
+//! - C5 with seed 28, default configuration: its 342nd frame is undone from a start the
+//!   relaxation mends (no run of C5 or S4 with seeds 1–150 needs the shorter substeps in the
+//!   default configuration).
 //!
 //! Breakage detected: without the relaxation no frame reports `relaxed_undone` and the undone
 //! frame's strain is 0.78 (seed 8) and 0.351 (seed 13; 0.351 as well without the retry with
 //! shorter substeps); a course that no longer makes such a frame (any change to the crumple's
 //! play) fails the first assertion, which says to find another run (`cargo run --release -p
-//! sim-core --example iter_hist -- s4_crumple@SEED` prints the largest strain and the undone
-//! frames of each seed).
+//! sim-core --example iter_hist -- s4_crumple@SEED` prints the largest strain, the undone
+//! and the relaxed frames of each seed; `INS_STRAIN=inf` plays insertions at s̄).
 
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
@@ -21,7 +32,17 @@ use sim_core::sim::{FrameOutput, SimConfig, UNDO_RELAX_STRAIN};
 
 #[test]
 fn an_undone_frame_that_starts_strained_is_relaxed_with_the_hands_held() {
-    relaxes_within("s4_crumple@8", 200);
+    relaxes_within("s4_crumple@8", 200, f64::INFINITY);
+}
+
+/// The default configuration still meets strained undone starts, rarely (C5 seed 28).
+#[test]
+fn an_undone_frame_is_relaxed_in_the_default_configuration() {
+    relaxes_within(
+        "c5_full_crumple@28",
+        350,
+        SimConfig::default().geometry.insertion_max_start_strain,
+    );
 }
 
 /// S4 with seed 13, its 1 018th frame: the same, but relaxed over the frame's one substep the fold
@@ -31,14 +52,16 @@ fn an_undone_frame_that_starts_strained_is_relaxed_with_the_hands_held() {
 /// (The scene's script resets the sheet on the way, so the frames are counted as driven.)
 #[test]
 fn a_relaxation_that_crosses_is_tried_again_with_shorter_substeps() {
-    relaxes_within("s4_crumple@13", 1030);
+    relaxes_within("s4_crumple@13", 1030, f64::INFINITY);
 }
 
-/// Plays `run` (`NAME@SEED`) for `frames` frames: some undone frame is relaxed, and no undone
-/// frame exceeds the health limit.
-fn relaxes_within(run: &str, frames: u64) {
+/// Plays `run` (`NAME@SEED`) for `frames` frames with insertions strained up to
+/// `max_start_strain`: some undone frame is relaxed, and no undone frame exceeds the health
+/// limit.
+fn relaxes_within(run: &str, frames: u64, max_start_strain: f64) {
     let script = scenario::get_seeded(run).expect("scene");
-    let cfg = SimConfig::default();
+    let mut cfg = SimConfig::default();
+    cfg.geometry.insertion_max_start_strain = max_start_strain;
     let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
     let mut sim = runner.start(cfg);
     let mut out = FrameOutput::default();

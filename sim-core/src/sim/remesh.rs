@@ -72,12 +72,13 @@ impl Sim {
         let (cap_v, cap_t) = self.mesh_capacity;
         let sp = &self.sheet.sp;
         let room = sp.num_vertices() < cap_v && sp.num_triangles() + 2 <= cap_t;
+        let max_start_strain = self.cfg.geometry.insertion_max_start_strain;
         // An insertion that makes the sheet cross itself where it did not (the new vertex's
         // triangles or a flipped edge through a layer of a fold) is refused: the pass-through
         // guard would otherwise undo every following frame from a crossed start. The old
         // mesh is checked only when the new one crosses (one sweep fewer per insertion).
         let inserted = room
-            .then(|| refine::insert_vertex_near(sp, p.sampled2).ok())
+            .then(|| refine::insert_vertex_near(sp, p.sampled2, max_start_strain).ok())
             .flatten()
             .filter(|(ins, _)| {
                 !self.proximity.any_crossing(&ins.mesh) || self.proximity.any_crossing(sp)
@@ -352,10 +353,11 @@ mod tests {
         let g = sim.geometry();
         assert_eq!(g.tri_region.len(), sp.num_triangles());
         assert_eq!(g.edge_dihedral_rad.len(), sp.num_edges());
-        // Every inserted vertex is a singular vertex, at its drawn position or nudged off it
-        // by less than half a triangle; with damage on its edges.
+        // Every inserted vertex is a singular vertex, at its drawn position, at its foot on
+        // an edge it split across a fold (sheet/refine.rs, step 2), or nudged off it by less
+        // than half a triangle; with damage on its edges.
         let spacing = SimConfig::default().mesh.spacing_m(sim.config().size);
-        let mut exact = 0;
+        let (mut exact, mut foot) = (0, 0);
         for v in lattice_nv as u32..sp.num_vertices() as u32 {
             let s = g
                 .singular
@@ -365,12 +367,31 @@ mod tests {
             let d = (s.pos2 - s.sampled2).norm();
             assert!(d < 0.5 * spacing, "{d} m off s̄");
             exact += usize::from(d < 1e-9);
+            // On a split edge: between two of its neighbours, s̄ straight across from it.
+            let nb = sp.topo.neighbours(v);
+            let q = sp.pattern[v as usize];
+            foot += usize::from(
+                d >= 1e-9
+                    && nb.iter().any(|&j| {
+                        nb.iter().any(|&k| {
+                            let (a, b) = (sp.pattern[j as usize] - q, sp.pattern[k as usize] - q);
+                            let along = (b - a).normalize();
+                            a.perp(&b).abs() < 1e-12 * a.norm() * b.norm()
+                                && a.dot(&b) < 0.0
+                                && (s.sampled2 - q).dot(&along).abs() < 1e-9
+                        })
+                    }),
+            );
             for &j in sp.topo.neighbours(v) {
                 let e = sp.topo.find_edge(v, j).unwrap() as usize;
                 assert!(sp.edge_damage[e] > 0.0);
             }
         }
-        assert!(exact * 2 >= inserted, "{exact} of {inserted} exactly at s̄");
+        println!("{inserted} inserted: {exact} at s̄, {foot} at its foot on a split edge");
+        assert!(
+            (exact + foot) * 2 >= inserted,
+            "{exact} of {inserted} exactly at s̄, {foot} at its foot"
+        );
         // Per-vertex buffers follow the mesh.
         assert_eq!(sim.contacts().len(), sp.num_vertices());
         let (cv, ct) = sim.mesh_capacity();

@@ -1,0 +1,53 @@
+//! A vertex inserted for a singular point next to a sharp fold starts unstrained
+//! (`sim_core::sheet::refine`, step 2; README "A singular vertex next to a fold").
+//!
+//! The case: the full crumple C5 played with seed 21 (`sim_core::scenario::get_seeded`). With
+//! insertions at s̄ whatever their strain (`GeometryConfig::insertion_max_start_strain`
+//! infinite, the behaviour before), one lands just off a sharply folded edge, its triangles
+//! start strained by 0.49, the pass-through guard undoes the frame after it, neither
+//! relaxation of that start stands, and the sheet shows a strain of 0.487 for three frames.
+//! In the default configuration the vertex goes on the fold edge and the whole run stays
+//! under the scenario health limit (largest strain 0.070).
+//!
+//! Breakage detected: the default run exceeding the limit; and if the run with insertions at
+//! s̄ no longer exceeds it, the crumple's course has changed and the case must be found again
+//! (`INS_STRAIN=inf cargo run --release -p sim-core --example iter_hist -- c5_full_crumple@SEED`).
+
+use sim_core::scenario;
+use sim_core::script_runner::ScriptRunner;
+use sim_core::sim::{FrameOutput, SimConfig, UNDO_RELAX_STRAIN};
+
+/// Largest strain of any frame of `run`, insertions strained up to `max_start_strain`.
+fn largest_strain(run: &str, max_start_strain: f64) -> f32 {
+    let script = scenario::get_seeded(run).expect("scene");
+    let mut cfg = SimConfig::default();
+    cfg.geometry.insertion_max_start_strain = max_start_strain;
+    let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
+    let mut sim = runner.start(cfg);
+    let mut out = FrameOutput::default();
+    let mut worst = 0.0f32;
+    while runner.drive(&mut sim, &mut out) {
+        worst = worst.max(out.stats.max_strain);
+    }
+    worst
+}
+
+#[test]
+fn a_singular_vertex_next_to_a_fold_starts_unstrained() {
+    let run = "c5_full_crumple@21";
+    let at_s = largest_strain(run, f64::INFINITY);
+    let default = largest_strain(
+        run,
+        SimConfig::default().geometry.insertion_max_start_strain,
+    );
+    println!("{run}: largest strain {at_s:.3} with insertions at s̄, {default:.3} by default");
+    assert!(
+        f64::from(at_s) > UNDO_RELAX_STRAIN,
+        "{run} with insertions at s̄ stays under the limit ({at_s}): its course changed; find \
+         another run"
+    );
+    assert!(
+        f64::from(default) < UNDO_RELAX_STRAIN,
+        "{run}: strain {default} beyond the health limit"
+    );
+}
