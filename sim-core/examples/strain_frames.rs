@@ -4,6 +4,7 @@
 //! strained triangle with its vertices.
 //!
 //! `cargo run --release -p sim-core --example strain_frames -- s4_crumple@2 [LIMIT]`
+//! (`ITERS=N` and `SUBSTEPS=N` set the solver's iteration cap and substeps per frame).
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, SimConfig};
