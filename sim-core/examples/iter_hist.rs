@@ -33,6 +33,7 @@ fn main() {
     let mut maxs = 0f32;
     let mut undone = 0u32;
     let mut relaxed = 0u32;
+    let mut kept = 0u32;
     let mut halv = 0u64;
     let mut frames = 0;
     let mut cm = 0.0;
@@ -53,6 +54,7 @@ fn main() {
         halv += u64::from(out.stats.halvings);
         undone += u32::from(out.stats.undo_streak > 0);
         relaxed += u32::from(out.stats.relaxed_undone);
+        kept += u32::from(out.stats.kept_crossed_start);
         cm += f64::from(out.stats.c_mean_pct);
         if std::env::var_os("NEWTON_TRACE").is_some() {
             eprintln!(
@@ -78,7 +80,7 @@ fn main() {
     let med = times[times.len() / 2] as f64 / 1e6;
     let p99 = times[times.len() * 99 / 100] as f64 / 1e6;
     println!(
-        "{name:28} tol {tol:e}: med {med:.3} p99 {p99:.3} maxstrain {maxs:.3} {:?} halv/f {:.2} c_mean {:.4} % sing {} mean {:.3} ms fb {} undone {} relaxed {}",
+        "{name:28} tol {tol:e}: med {med:.3} p99 {p99:.3} maxstrain {maxs:.3} {:?} halv/f {:.2} c_mean {:.4} % sing {} mean {:.3} ms fb {} undone {} relaxed {} kept_crossed {}",
         hist,
         halv as f64 / frames as f64,
         cm / frames as f64,
@@ -86,6 +88,7 @@ fn main() {
         t as f64 / frames as f64 / 1e6,
         0,
         undone,
-        relaxed
+        relaxed,
+        kept
     );
 }

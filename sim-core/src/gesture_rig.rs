@@ -104,7 +104,8 @@
 //! the sheet into itself it stands still (measured in those runs: undone frames come alone
 //! or in pairs, at most 5 per run; with the 4 mm stop and before the contact was stiffened
 //! where it crossed, up to 1.6 s in a row; after [`crate::sim::MAX_UNDO_STREAK`] undone
-//! frames one goes through as simulated).
+//! frames, 0.1 s, one goes through as simulated, and a frame whose start crosses already is
+//! not undone: `Sim`'s module doc, "The pass-through guard").
 //!
 //! **Obstacles.** Targets are moved out of the table, wall and floor (the whole held patch);
 //! a hand that holds paper inside an obstacle comes out at its travel speed, never by a jump,

@@ -108,6 +108,28 @@
 //! and none needs the shorter substeps. The tests
 //! (`tests/undone_frames.rs`) play the old insertions to keep both attempts covered.
 //!
+//! ## The pass-through guard
+//!
+//! While the hands squeeze, a frame that passes the sheet through itself is undone
+//! (`undo_pass_through`, gesture_rig.rs "Crumple cap"). It is armed when the frame starts
+//! uncrossed: the closest approach of two layers, which the squeeze limit measures anyway,
+//! is above zero — or, where that query finds two layers touching, a crossing sweep says so.
+//! That query skips pairs of triangles close in the pattern (one patch of the sheet, which
+//! may not be told from layers of a fold), so a start whose crossing is between two such
+//! triangles armed the guard all the same; the frame ended crossed and undoing it returned
+//! to the crossed start, frame after frame until the script's hands changed course (S4 seed
+//! 8: 163 frames, 0.8 s of a frozen squeeze). Now the undo looks at the start it would return
+//! to, and where that crosses already the frame stands ([`FrameStats::kept_crossed_start`]).
+//! Where the start is clean but every replay crosses the same way (a pair of one patch,
+//! which the sheet–sheet contact does not hold apart either), at most [`MAX_UNDO_STREAK`]
+//! frames (0.1 s) are undone in a row before one goes through as simulated; it was 400
+//! frames (2 s), and S4 seed 41 froze for 142. Over C5 and S4 with seeds 1–150 (300 runs,
+//! `cargo run --release -p sim-core --example iter_hist -- s4_crumple@SEED`): 461 → 174
+//! undone frames, the longest streak 163 → 23 frames; three runs then play on with a
+//! crossing inside a fold (S4 seeds 8, 41 and 117: 162, 120 and 13 frames keep a crossed
+//! start), and S4 seed 117's frame that goes through strains the sheet by 0.131 (0.100 before).
+//! No seed scene undoes a frame, so none plays differently.
+//!
 //! ## Sleeping
 //!
 //! A sheet at rest costs nothing: when no handle moves, no gesture or obstacle is settling and
@@ -172,8 +194,8 @@ pub const UNDO_RELAX_STRAIN: f64 = 0.1;
 /// many times the frame's substeps (module doc, "An undone frame relaxed").
 pub const UNDO_RELAX_FINE_FACTOR: u32 = 4;
 /// Frames in a row the pass-through guard may undo before one frame goes through as simulated
-/// (`Sim::undo_pass_through`).
-pub const MAX_UNDO_STREAK: u32 = 400;
+/// (`Sim::undo_pass_through`; module doc, "The pass-through guard"): 0.1 s at 200 frames/s.
+pub const MAX_UNDO_STREAK: u32 = 20;
 
 /// Everything that defines a sheet before any command.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -280,6 +302,12 @@ pub struct FrameStats {
     /// it again from that start with the hands held relaxed it (module doc, "An undone frame
     /// relaxed"); false in the seed scenes.
     pub relaxed_undone: bool,
+    /// The pass-through guard found this frame passing the sheet through itself, but the
+    /// frame's start crossed already (two layers of one fold, which the closest-approach query
+    /// that arms the guard skips), so the frame stood: undoing it would only return to a
+    /// crossed start, frame after frame (module doc, "The pass-through guard"); false in the
+    /// seed scenes.
+    pub kept_crossed_start: bool,
 }
 
 /// What one frame produces.
@@ -316,6 +344,9 @@ pub struct Sim {
     frames_simulated: u64,
     /// S_P vertices inserted for singular vertices since the sheet was made (sim/remesh.rs).
     inserted_vertices: u64,
+    /// This frame's pass-through guard found the frame's start crossed already and let the
+    /// frame stand (`undo_pass_through`).
+    kept_crossed_start: bool,
     /// S_P edges flipped (sim/remesh.rs).
     flipped_edges: u64,
     /// Strips cut into S_P ([`crate::geometry::GeometryConfig::cut_strips`]).
@@ -401,6 +432,7 @@ impl Sim {
             mesh_capacity,
             frames_simulated: 0,
             inserted_vertices: 0,
+            kept_crossed_start: false,
             flipped_edges: 0,
             cut_strips: 0,
             collapsed_vertices: 0,
@@ -692,7 +724,21 @@ impl Sim {
         if !crossed {
             return false;
         }
+        // A start that crosses already (two layers of one fold: the closest-approach query
+        // that armed the guard skips pairs that close in the pattern) has nothing clean to go
+        // back to: the frame stands, as when the guard is off (module doc, "The pass-through
+        // guard").
+        let sp = &self.sheet.sp;
+        self.stalled_pos.clone_from(&sp.pos);
+        self.stalled_vel.clone_from(&sp.vel);
         self.restore_frame_start();
+        if self.proximity.any_crossing(&self.sheet.sp) {
+            let sp = &mut self.sheet.sp;
+            sp.pos.clone_from(&self.stalled_pos);
+            sp.vel.clone_from(&self.stalled_vel);
+            self.kept_crossed_start = true;
+            return false;
+        }
         self.rig.undo_frame_motion();
         self.rig.limit_squeeze(0.0, frame_scale);
         true
@@ -994,6 +1040,7 @@ impl Sim {
         }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
         let mut relaxed_undone = false;
+        self.kept_crossed_start = false;
         if guard {
             // The isometry step may just have swept these very positions for crossings.
             let checked = self.cfg.geometry.enabled && self.geometry.checked_uncrossed();
@@ -1051,6 +1098,7 @@ impl Sim {
         out.stats.pinned_substeps = pinned;
         out.stats.held_back_substeps = held_back;
         out.stats.relaxed_undone = relaxed_undone;
+        out.stats.kept_crossed_start = self.kept_crossed_start;
     }
 
     fn update_contacts(&mut self) {
@@ -1101,6 +1149,7 @@ impl Sim {
             held_back_substeps: 0,
             undo_streak: self.rig.state.undo_streak,
             relaxed_undone: false,
+            kept_crossed_start: false,
         }
     }
 
