@@ -107,8 +107,8 @@ pub const MIN_ANGLE_RAD: f64 = 12.0 * std::f64::consts::PI / 180.0;
 /// Largest current dihedral angle of an edge that may be flipped, radians.
 pub const FLIP_MAX_DIHEDRAL_RAD: f64 = 0.2;
 /// Above this start strain of the new vertex's edges (largest |l/l̄ − 1|) an edge split at s̄
-/// is made at the foot of s̄ on the edge instead, if that starts less strained (module doc,
-/// step 2).
+/// is made at the foot of s̄ on the edge instead, if that starts less strained, and
+/// [`insert_vertex_near`] tries its nudged points (module doc, step 2).
 pub const SPLIT_START_STRAIN_MAX: f64 = 0.05;
 /// Largest number of Lawson flips per insertion.
 const MAX_FLIPS: usize = 32;
@@ -354,11 +354,11 @@ pub fn insert_vertex_limited(
 /// "away from existing vertices" (digest §3.5, impl. choice) and inside well-shaped elements;
 /// the nudge is at most half a triangle (≤ 0.3 S_P edge), where the nearest vertex would be
 /// up to a whole edge away. Where the insertion at `p` is made but starts the new vertex's
-/// edges strained beyond `max_start_strain` (default [`SPLIT_START_STRAIN_MAX`]; a fold next to it that the split at the
-/// foot, module doc step 2, does not avoid), the same points are tried: the first whose
-/// insertion starts within that strain is taken, else the least strained of all. Returns the
-/// insertion and the new vertex's pattern position (the point used, or its foot on a split
-/// edge).
+/// edges strained beyond `max_start_strain` (default [`SPLIT_START_STRAIN_MAX`]: a fold next
+/// to it that the split at the foot, module doc step 2, does not avoid), the same points are
+/// tried: the first whose insertion starts within that strain is taken, else the least
+/// strained of all. Returns the insertion and the new vertex's pattern position (the point
+/// used, or its foot on a split edge).
 pub fn insert_vertex_near(
     sp: &PhysMesh,
     p: V2,
