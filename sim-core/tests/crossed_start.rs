@@ -14,17 +14,14 @@
 //! (`cargo run --release -p sim-core --example iter_hist -- s4_crumple@SEED` prints the undone
 //! and kept-crossed frames of each seed).
 
-use sim_core::scenario;
-use sim_core::script_runner::ScriptRunner;
+mod seeded;
+
 use sim_core::sim::{FrameOutput, SimConfig};
 
 #[test]
 fn a_frame_that_starts_crossed_is_not_undone_again_and_again() {
     let run = "s4_crumple@8";
-    let script = scenario::get_seeded(run).expect("scene");
-    let cfg = SimConfig::default();
-    let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
-    let mut sim = runner.start(cfg);
+    let (mut runner, mut sim) = seeded::start(run, SimConfig::default());
     let mut out = FrameOutput::default();
     let (mut kept, mut longest_streak) = (0u32, 0u32);
     for _ in 0..300 {

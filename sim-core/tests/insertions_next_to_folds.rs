@@ -13,17 +13,13 @@
 //! s̄ no longer exceeds it, the crumple's course has changed and the case must be found again
 //! (`INS_STRAIN=inf cargo run --release -p sim-core --example iter_hist -- c5_full_crumple@SEED`).
 
-use sim_core::scenario;
-use sim_core::script_runner::ScriptRunner;
+mod seeded;
+
 use sim_core::sim::{FrameOutput, SimConfig, UNDO_RELAX_STRAIN};
 
 /// Largest strain of any frame of `run`, insertions strained up to `max_start_strain`.
 fn largest_strain(run: &str, max_start_strain: f64) -> f32 {
-    let script = scenario::get_seeded(run).expect("scene");
-    let mut cfg = SimConfig::default();
-    cfg.geometry.insertion_max_start_strain = max_start_strain;
-    let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
-    let mut sim = runner.start(cfg);
+    let (mut runner, mut sim) = seeded::start(run, seeded::with_insertion_limit(max_start_strain));
     let mut out = FrameOutput::default();
     let mut worst = 0.0f32;
     while runner.drive(&mut sim, &mut out) {

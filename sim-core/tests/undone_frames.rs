@@ -26,8 +26,8 @@
 //! sim-core --example iter_hist -- s4_crumple@SEED` prints the largest strain, the undone
 //! and the relaxed frames of each seed; `INS_STRAIN=inf` plays insertions at s̄).
 
-use sim_core::scenario;
-use sim_core::script_runner::ScriptRunner;
+mod seeded;
+
 use sim_core::sim::{FrameOutput, SimConfig, UNDO_RELAX_STRAIN};
 
 #[test]
@@ -59,11 +59,7 @@ fn a_relaxation_that_crosses_is_tried_again_with_shorter_substeps() {
 /// `max_start_strain`: some undone frame is relaxed, and no undone frame exceeds the health
 /// limit.
 fn relaxes_within(run: &str, frames: u64, max_start_strain: f64) {
-    let script = scenario::get_seeded(run).expect("scene");
-    let mut cfg = SimConfig::default();
-    cfg.geometry.insertion_max_start_strain = max_start_strain;
-    let mut runner = ScriptRunner::new(&script, cfg.frame_rate_hz, cfg.room).expect("runner");
-    let mut sim = runner.start(cfg);
+    let (mut runner, mut sim) = seeded::start(run, seeded::with_insertion_limit(max_start_strain));
     let mut out = FrameOutput::default();
     let (mut relaxed, mut undone, mut worst) = (Vec::new(), 0u32, 0.0f32);
     // Frames driven (the scene's script resets the sheet, and its frame count, on the way).
