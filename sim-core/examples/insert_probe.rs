@@ -4,7 +4,8 @@
 //! `cargo run --release -p sim-core --example insert_probe [-- NAME[@SEED]...]` (`ISO=0`: isometry
 //! step off; `CUT=1`: strip cutting on, `GeometryConfig::cut_strips`, the strips cut shown after
 //! the vertices inserted, with the vertices coarsening took out again; `COUPLING=N`: `SolverConfig::contact_coupling_pairs`;
-//! `STOP=step`: Newton stops on its last step alone, `SolverConfig::stop_on_error_estimate`)
+//! `STOP=step`: Newton stops on its last step alone, `SolverConfig::stop_on_error_estimate`;
+//! `REUSE=0`: no reused factorizations, `SolverConfig::reuse_factor`)
 //!
 //! Per scene and mode: singular points, how many sit exactly at s̄ (pattern distance
 //! < 1 µm) and the largest distance, S_P vertices inserted, final mesh size, mean c_mean and
@@ -41,6 +42,9 @@ fn main() {
             cfg.geometry.cut_strips = cut;
             if let Some(n) = std::env::var("COUPLING").ok().and_then(|v| v.parse().ok()) {
                 cfg.solver.contact_coupling_pairs = n;
+            }
+            if std::env::var("REUSE").is_ok_and(|v| v == "0") {
+                cfg.solver.reuse_factor = false;
             }
             if std::env::var("STOP").is_ok_and(|v| v == "step") {
                 cfg.solver.stop_on_error_estimate = false;

@@ -1,5 +1,7 @@
-//! Newton iterations per frame of a scene (`NAME` or `NAME@SEED`), as a histogram; `COUPLING=N`,
-//! `NOGEOM=1`, `INS_STRAIN=X` (`GeometryConfig::insertion_max_start_strain`, `inf` = off).
+//! Newton iterations per frame of a scene (`NAME` or `NAME@SEED`), as a histogram (the last
+//! bin: 11 or more, reused-factorization iterations included); `COUPLING=N`, `NOGEOM=1`,
+//! `REUSE=0` (`SolverConfig::reuse_factor` off), `INS_STRAIN=X`
+//! (`GeometryConfig::insertion_max_start_strain`, `inf` = off).
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, SimConfig};
@@ -21,6 +23,9 @@ fn main() {
         .and_then(|v| v.parse().ok())
     {
         cfg.geometry.insertion_max_start_strain = x;
+    }
+    if std::env::var("REUSE").is_ok_and(|v| v == "0") {
+        cfg.solver.reuse_factor = false;
     }
     if std::env::var_os("NOGEOM").is_some() {
         cfg.geometry.enabled = false;

@@ -67,7 +67,9 @@ pub struct SolverConfig {
     pub kind: SolverKind,
     /// Substeps per frame (time step = frame / substeps).
     pub substeps: u32,
-    /// Newton: maximal iterations per substep. XPBD: constraint iterations per substep.
+    /// Newton: maximal iterations per substep that factorize the system (with
+    /// `reuse_factor`, as many more may solve with a reused factorization). XPBD: constraint
+    /// iterations per substep.
     pub iterations: u32,
     /// Newton: stop when the largest vertex update is below this, metres.
     pub tolerance_m: f64,
@@ -94,6 +96,9 @@ pub struct SolverConfig {
     /// ([`sparse::BlockSystem::add_rank_one`]); further pairs add their diagonal blocks only.
     /// 0 = diagonal blocks only. At most [`sparse::LOW_RANK_CAPACITY`].
     pub contact_coupling_pairs: u32,
+    /// Newton: solve with the last iteration's factorization again while the steps contract
+    /// ([`newton`] "Reused factorizations").
+    pub reuse_factor: bool,
 }
 
 impl Default for SolverConfig {
@@ -120,6 +125,10 @@ impl Default for SolverConfig {
     /// cap at 10 the held sheet settles (vertex speeds < 1 cm/s) and s4's max strain is 0.04;
     /// easy frames still stop after 1–2 iterations.
     ///
+    /// **Reused factorizations: on** ([`newton`], "Reused factorizations"). Over the crumples C5
+    /// and S4 played with seeds 1–300, the median frame falls to 0.77–0.82× (docs/benchmarks.md,
+    /// 2026-12-01), with no more runs beyond the strain health limit than without.
+    ///
     /// **Contact coupling: 32 pairs** (`docs/benchmarks.md`, report of 2026-11-27 09:19). With
     /// the sheet–sheet pairs' diagonal Hessian blocks alone, S4 ended 557 of 1 198 frames at the
     /// iteration cap; with up to 32 pairs' whole Hessians, 212. Over C5 seeds 1–4 and 6–8, 32 /
@@ -139,6 +148,7 @@ impl Default for SolverConfig {
             drag_per_s: 0.3,
             sheet_contact: true,
             contact_coupling_pairs: 32,
+            reuse_factor: true,
         }
     }
 }
@@ -170,6 +180,7 @@ impl SolverConfig {
             contact_coupling_pairs: self
                 .contact_coupling_pairs
                 .min(sparse::LOW_RANK_CAPACITY as u32),
+            reuse_factor: self.reuse_factor,
         }
     }
 }
@@ -241,6 +252,13 @@ pub struct SubstepReport {
     /// Newton: the solve ended on an iterate from which no step was acceptable, even damped
     /// and after any pinning: the substep stopped short of its solution.
     pub stalled: bool,
+    /// Newton: iterations whose step was solved with the factorization of an earlier one
+    /// ([`newton`] "Reused factorizations"); counted in `iterations` too.
+    pub reused_iterations: u32,
+    /// Newton: numeric factorizations done (Levenberg–Marquardt retries included).
+    pub factorizations: u32,
+    /// Newton: the solve ended at the iteration cap, short of its stopping rule.
+    pub capped: bool,
 }
 
 /// True if some triangle of `mesh` turns by more than 90° (its normal reverses) between
@@ -470,7 +488,7 @@ pub fn elastic_forces(mesh: &PhysMesh, params: &PhysParams, out: &mut [V3]) {
     let mut h3 = [[crate::math::M3::zeros(); 3]; 3];
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let xs = tri.map(|i| mesh.pos[i as usize]);
-        membrane::grad_hess(
+        membrane::grad_hess::<true>(
             xs,
             &mesh.tri_rest[t],
             &M2::zeros(),

@@ -282,6 +282,8 @@ pub struct FrameStats {
     pub substeps: u32,
     /// Solver iterations summed over the frame's substeps.
     pub iterations: u32,
+    /// Substeps whose Newton solve ended at the iteration cap, short of its stopping rule.
+    pub capped_substeps: u32,
     /// Substeps whose state had to be recovered (non-finite); 0 in a healthy run.
     pub recoveries: u32,
     /// Newton line-search halvings summed over the frame's substeps.
@@ -997,7 +999,7 @@ impl Sim {
         let n_sub = self.cfg.solver.substeps;
         let h = dt / f64::from(n_sub);
         let (mut iterations, mut recoveries, mut halvings, mut pinned) = (0u32, 0u32, 0u32, 0u32);
-        let mut held_back = 0u32;
+        let (mut held_back, mut capped) = (0u32, 0u32);
         for s in 1..=n_sub {
             let frac = f64::from(s) / f64::from(n_sub);
             self.rig
@@ -1009,6 +1011,7 @@ impl Sim {
                 held_back += u32::from(kept);
             }
             iterations += r.iterations;
+            capped += u32::from(r.capped);
             halvings += r.halvings;
             pinned += u32::from(r.pinned);
             recoveries += u32::from(r.recovered);
@@ -1097,6 +1100,7 @@ impl Sim {
         out.stats.halvings = halvings;
         out.stats.pinned_substeps = pinned;
         out.stats.held_back_substeps = held_back;
+        out.stats.capped_substeps = capped;
         out.stats.relaxed_undone = relaxed_undone;
         out.stats.kept_crossed_start = self.kept_crossed_start;
     }
@@ -1143,6 +1147,7 @@ impl Sim {
             num_flipped: m.num_flipped as u32,
             substeps,
             iterations,
+            capped_substeps: 0,
             recoveries,
             halvings: 0,
             pinned_substeps: 0,

@@ -1,17 +1,17 @@
 //! A vertex inserted for a singular point next to a sharp fold starts unstrained
 //! (`sim_core::sheet::refine`, step 2; README "A singular vertex next to a fold").
 //!
-//! The case: the full crumple C5 played with seed 21 (`sim_core::scenario::get_seeded`). With
-//! insertions at s̄ whatever their strain (`GeometryConfig::insertion_max_start_strain`
-//! infinite, the behaviour before), one lands just off a sharply folded edge, its triangles
-//! start strained by 0.49, the pass-through guard undoes the frame after it, neither
-//! relaxation of that start stands, and the sheet shows a strain of 0.487 for three frames.
-//! In the default configuration the vertex goes on the fold edge and the whole run stays
-//! under the scenario health limit (largest strain 0.070).
+//! The case: the crumple S4 played with seed 84 (`sim_core::scenario::get_seeded`; found
+//! after the Newton solver began to reuse its factorizations, which changed every crumple's
+//! course). With insertions at s̄ whatever their strain
+//! (`GeometryConfig::insertion_max_start_strain` infinite, the behaviour before), vertices land
+//! just off sharply folded edges and the sheet reaches a strain of 0.532. In the default
+//! configuration such vertices go on the fold edge and the whole run stays under the scenario
+//! health limit (largest strain 0.062).
 //!
 //! Breakage detected: the default run exceeding the limit; and if the run with insertions at
 //! s̄ no longer exceeds it, the crumple's course has changed and the case must be found again
-//! (`INS_STRAIN=inf cargo run --release -p sim-core --example iter_hist -- c5_full_crumple@SEED`).
+//! (`INS_STRAIN=inf cargo run --release -p sim-core --example iter_hist -- s4_crumple@SEED`).
 
 mod seeded;
 
@@ -30,7 +30,7 @@ fn largest_strain(run: &str, max_start_strain: f64) -> f32 {
 
 #[test]
 fn a_singular_vertex_next_to_a_fold_starts_unstrained() {
-    let run = "c5_full_crumple@21";
+    let run = "s4_crumple@84";
     let at_s = largest_strain(run, f64::INFINITY);
     let default = largest_strain(
         run,

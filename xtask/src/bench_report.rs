@@ -339,6 +339,21 @@ fn variants(quick: bool) -> Vec<Variant> {
         g,
         " (contact Hessian: diagonal blocks only)",
     ));
+    // Newton with a fresh factorization in every iteration (sim-core's physics/newton.rs
+    // "Reused factorizations" off), the solver before factorizations were reused.
+    v.push(with_geometry(
+        variant(
+            "newton",
+            SolverConfig {
+                reuse_factor: false,
+                ..SolverConfig::default()
+            },
+            d,
+        ),
+        "geometry",
+        g,
+        " (no reused factorizations)",
+    ));
     // Newton's stopping rule (sim-core's physics/newton.rs "Stopping"): the last step alone
     // below the tolerance, the rule before the contraction estimate.
     v.push(with_geometry(

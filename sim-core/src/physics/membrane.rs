@@ -146,7 +146,7 @@ pub fn energy(x: [V3; 3], rest: &TriRest, g_prev: &M2, damp: f64, p: &MembranePa
 ///
 /// (`c_m = 1 + τ_s/h`: elastic + viscous material term; S⁺ = S clamped PSD, the geometric
 /// term), so the nine blocks cost a handful of outer products.
-pub fn grad_hess(
+pub fn grad_hess<const HESS: bool>(
     x: [V3; 3],
     rest: &TriRest,
     g_prev: &M2,
@@ -176,6 +176,19 @@ pub fn grad_hess(
         *gv = (fs0 * bv.x + fs1 * bv.y) * a;
     }
 
+    if !HESS {
+        let (j, grad_j) = area_ratio_grad(&x, rest);
+        let (wb, dwb, _) = barrier(j);
+        if wb > 0.0 {
+            let kb = p.lambda_n_m + 2.0 * p.mu_n_m;
+            let gj = grad_j();
+            e += kb * wb;
+            for v in 0..3 {
+                grad[v] += gj[v] * (a * kb * dwb);
+            }
+        }
+        return a * e;
+    }
     let s_psd = sym2_clamp_psd(&s);
     let cm = 1.0 + damp;
     let mu = a * cm * p.mu_n_m;
@@ -251,7 +264,7 @@ mod tests {
         ];
         let mut g = [V3::zeros(); 3];
         let mut h = [[M3::zeros(); 3]; 3];
-        let e = grad_hess(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
+        let e = grad_hess::<true>(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
         assert!(e.abs() < 1e-20);
         assert!(g.iter().all(|v| v.norm() < 1e-12));
         // Rigid rotation: still zero.
@@ -267,7 +280,7 @@ mod tests {
         for damp in [0.0, 3.0] {
             let mut g = [V3::zeros(); 3];
             let mut h = [[M3::zeros(); 3]; 3];
-            grad_hess(x, &rest, &gp, damp, &p, &mut g, &mut h);
+            grad_hess::<true>(x, &rest, &gp, damp, &p, &mut g, &mut h);
             let eps = 1e-8;
             for a in 0..3 {
                 for c in 0..3 {
@@ -298,7 +311,7 @@ mod tests {
         ];
         let mut g = [V3::zeros(); 3];
         let mut h = [[M3::zeros(); 3]; 3];
-        grad_hess(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
+        grad_hess::<true>(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
         let eps = 1e-7;
         for b in 0..3 {
             for c in 0..3 {
@@ -309,8 +322,8 @@ mod tests {
                 let mut gp = [V3::zeros(); 3];
                 let mut gm = [V3::zeros(); 3];
                 let mut hh = [[M3::zeros(); 3]; 3];
-                grad_hess(xp, &rest, &M2::zeros(), 0.0, &p, &mut gp, &mut hh);
-                grad_hess(xm, &rest, &M2::zeros(), 0.0, &p, &mut gm, &mut hh);
+                grad_hess::<true>(xp, &rest, &M2::zeros(), 0.0, &p, &mut gp, &mut hh);
+                grad_hess::<true>(xm, &rest, &M2::zeros(), 0.0, &p, &mut gm, &mut hh);
                 for a in 0..3 {
                     let fd = (gp[a] - gm[a]) / (2.0 * eps);
                     let col = h[a][b].column(c).into_owned();
@@ -334,7 +347,7 @@ mod tests {
         ];
         let mut g = [V3::zeros(); 3];
         let mut h = [[M3::zeros(); 3]; 3];
-        grad_hess(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
+        grad_hess::<true>(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
         let eps = 1e-9;
         for a in 0..3 {
             for c in 0..3 {
@@ -371,7 +384,7 @@ mod tests {
         ];
         let mut g = [V3::zeros(); 3];
         let mut h = [[M3::zeros(); 3]; 3];
-        grad_hess(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
+        grad_hess::<true>(x, &rest, &M2::zeros(), 0.0, &p, &mut g, &mut h);
         let mut full = nalgebra::DMatrix::<f64>::zeros(9, 9);
         for (a, row) in h.iter().enumerate() {
             for (b, blk) in row.iter().enumerate() {

@@ -6,12 +6,15 @@
 //!
 //! ```text
 //! x ← x_n + h v_n  (free vertices),  x_k ← target_k  (kinematic vertices)
-//! repeat ≤ iterations:
+//! repeat ≤ iterations (factorized; ≤ as many again reusing a factorization):
 //!     g = ∇E(x),  H = PSD approximation of ∇²E(x)        (membrane: clamped geometric term;
 //!                                                        hinges and friction: Gauss–Newton)
 //!     solve H Δ = −g  on the free vertices               (faer sparse Cholesky, fixed pattern;
 //!                                                        sheet–sheet contact pairs' rank-one
-//!                                                        terms by the Woodbury identity)
+//!                                                        terms by the Woodbury identity;
+//!                                                        H and its factor kept from the last
+//!                                                        iteration while its steps shrink,
+//!                                                        "Reused factorizations")
 //!     α = 1; while E(x + αΔ) > E(x) + 10⁻⁴ α gᵀΔ
 //!                  or a triangle of x + αΔ is turned by > 90° from x_n: α ← α/2   (≤ 8 halvings)
 //!     (no acceptable α: retry with H + ρ M/h², ρ = 10, 1000 — Levenberg–Marquardt)
@@ -43,12 +46,38 @@
 //! `SolverConfig::stop_on_error_estimate = false`) ran one more iteration to learn what the
 //! estimate already said: with Θ ≈ 0.25 it left the iterate some 3× inside the tolerance. The
 //! estimate is used only between two full Newton steps (no halving, no damping, no pinning in
-//! between) with Θ < ½; slower or damped iterations stop on the step as before. Measured with
+//! between) with Θ < ½, both solved with a fresh factorization or both with the same reused
+//! one (a fresh step followed by a reused one contracts faster than the reused ones after it:
+//! estimated across that pair, the swinging-sheet test below stopped 10 tolerances short);
+//! slower or damped iterations stop on the step as before. Measured with
 //! `STOP=step` against the default of `sim-core/examples/scenario_probe.rs` over the 12 seed
 //! scenes (docs/benchmarks.md): 2–18 % fewer iterations per substep (C4 17 %, C5 and S4 7 %),
 //! the same c_mean and awake frames (the sheets fall asleep as before) in every scene, the
 //! largest strain within 0.001. Unit test: each substep of a swinging sheet stops sooner and
 //! within 2× the tolerance of the step rule's iterate.
+//!
+//! **Reused factorizations** (impl. choice; a modified Newton method). Our H is an
+//! approximation anyway (above), so the iterations converge linearly, and late in a substep,
+//! when the steps are small, the H of the iteration before is hardly a worse one. A numeric
+//! factorization with its Woodbury terms and the assembly of H were about half of a crumple's
+//! frame (`perf`, C5 and S4). So after a full step (α = 1, no damping) the next iteration
+//! assembles only the gradient and solves with the factor it already has
+//! ([`BlockSystem::solve_again`]: the previous H, its contact pairs' rank-one terms and their
+//! capacitance factor included), and it keeps doing so while each such step is shorter than
+//! [`REUSE_MAX_CONTRACTION`] of the one before; a slower step, any halving, damping or
+//! pinning, and the next iteration factorizes afresh. A reused step the line search refuses
+//! at α = 1, or that is not a descent direction, is not halved: H is assembled and factorized
+//! at the same iterate and the iteration goes on as usual. Every accepted step still lowers
+//! E (the Armijo test is the same), so the method converges to the same minimizer; it takes
+//! more iterations, each much cheaper. The cap [`SolverConfig::iterations`] counts the
+//! factorized iterations, and the reused ones may add as many again
+//! ([`REUSE_ITERATION_FACTOR`]). Measured with a temporary probe that solved every substep
+//! of C5, S4 and C2 a second time from the same start with reuse: with the cap of 10 on all
+//! iterations, 1.3–1.8× as many substeps as the plain method's ended at the cap, unconverged;
+//! with the cap on factorized iterations, 0.3–0.6× as many, in 0.73–0.92× the solver's time.
+//! Over the crumples played with seeds 1–150 the whole frame's median falls by a fifth to a
+//! quarter (docs/benchmarks.md, "Reused factorizations"). `SolverConfig::reuse_factor =
+//! false` restores the plain method.
 //!
 //! **Pinning** (impl. choice). The line search scales the whole step, so one triangle that
 //! every trial would turn over stops the solve for the entire sheet. Under the hostile stress
@@ -94,6 +123,13 @@ const MAX_LM_RETRIES: u32 = 2;
 /// Largest contraction between two full Newton steps from which the remaining error is
 /// estimated (module doc, "Stopping"); slower iterations stop on the step alone.
 const MAX_CONTRACTION: f64 = 0.5;
+/// A step solved with a reused factorization must shrink below this fraction of the step
+/// before it for the next iteration to reuse the factorization again (module doc, "Reused
+/// factorizations").
+const REUSE_MAX_CONTRACTION: f64 = 0.5;
+/// Iterations per substep, reused ones included, as a multiple of the cap on factorized
+/// iterations ([`SolverConfig::iterations`]) when factorizations are reused.
+const REUSE_ITERATION_FACTOR: u32 = 2;
 
 /// Newton solver workspace for one mesh.
 #[derive(Debug)]
@@ -212,34 +248,61 @@ impl NewtonSolver {
             .set_low_rank_limit(cfg.contact_coupling_pairs as usize);
         let mut report = SubstepReport::default();
         let mut e0 = f64::NAN;
-        let mut prev_step_m: Option<f64> = None;
+        let mut prev_step_m: Option<(f64, bool)> = None;
+        let mut last_step_m: Option<f64> = None;
+        let mut reuse_next = false;
         // `held` is moved out for the loop (the assembly borrows the solver mutably).
         let mut held = std::mem::take(&mut self.held);
         held.copy_from_slice(kin.fixed);
         // The hinge angles at the current iterate, once a line search has measured them there.
         let mut theta_pos = std::mem::take(&mut self.theta_pos);
         let mut theta_known = false;
-        'newton: for _ in 0..cfg.iterations {
+        // The cap counts factorized iterations; reused ones are cheap and add at most as
+        // many again (module doc, "Reused factorizations").
+        let max_iterations = if cfg.reuse_factor {
+            REUSE_ITERATION_FACTOR * cfg.iterations
+        } else {
+            cfg.iterations
+        };
+        'newton: loop {
+            if report.iterations - report.reused_iterations >= cfg.iterations
+                || report.iterations >= max_iterations
+            {
+                report.capped = true;
+                break;
+            }
             report.iterations += 1;
             let known = theta_known.then_some(theta_pos.as_slice());
-            let e = self.assemble(mesh, &held, ctx, e0.is_nan(), known);
+            let e = if reuse_next {
+                self.assemble::<false>(mesh, &held, ctx, e0.is_nan(), known)
+            } else {
+                self.assemble::<true>(mesh, &held, ctx, e0.is_nan(), known)
+            };
             let e = if e0.is_nan() { e } else { e0 };
             // Newton step; if the line search finds no acceptable step along it (the PSD
             // approximation underestimated the curvature), retry with Levenberg–Marquardt
             // damping (H + ρ M/h²), which shortens the step towards scaled gradient descent.
             let mut reg = 0.0;
-            for _attempt in 0..=MAX_LM_RETRIES {
+            let mut reuse = reuse_next;
+            let mut attempt = 0;
+            loop {
                 for (i, &fixed) in held.iter().enumerate() {
                     let g = if fixed { V3::zeros() } else { -self.grad[i] };
                     self.sys.rhs[3 * i..3 * i + 3].copy_from_slice(g.as_slice());
                 }
-                if self
-                    .sys
-                    .factorize_and_solve(&held, &self.diag_fixed, reg)
-                    .is_err()
-                {
-                    report.recovered = true;
-                    break 'newton;
+                if reuse {
+                    if !self.sys.solve_again() {
+                        reuse = false;
+                        self.assemble::<true>(mesh, &held, ctx, false, known);
+                        continue;
+                    }
+                } else {
+                    report.factorizations += 1;
+                    let solved = self.sys.factorize_and_solve(&held, &self.diag_fixed, reg);
+                    if solved.is_err() {
+                        report.recovered = true;
+                        break 'newton;
+                    }
                 }
                 let mut slope = 0.0;
                 let mut max_step: f64 = 0.0;
@@ -257,6 +320,11 @@ impl NewtonSolver {
                     break 'newton;
                 }
                 if slope >= 0.0 {
+                    if reuse {
+                        reuse = false;
+                        self.assemble::<true>(mesh, &held, ctx, false, known);
+                        continue;
+                    }
                     // Converged to round-off: no descent left.
                     break 'newton;
                 }
@@ -289,16 +357,22 @@ impl NewtonSolver {
                             theta_known = true;
                             e0 = e_new;
                             let step_m = alpha * max_step;
+                            if reuse {
+                                report.reused_iterations += 1;
+                            }
                             if step_m < cfg.tolerance_m {
                                 break 'newton;
                             }
-                            // A full Newton step (no halving, no damping) after another one:
-                            // their ratio is the contraction Θ, and what is left to go is
-                            // about Θ/(1 − Θ) of this step (module doc, "Stopping").
+                            // A full Newton step (no halving, no damping) after another one
+                            // of the same kind (both solved with a fresh factorization, or
+                            // both with the same reused one): their ratio is the contraction
+                            // Θ, and what is left to go is about Θ/(1 − Θ) of this step
+                            // (module doc, "Stopping").
                             let full = alpha == 1.0 && reg == 0.0;
                             if full
                                 && cfg.stop_on_error_estimate
-                                && let Some(prev_m) = prev_step_m
+                                && let Some((prev_m, prev_reused)) = prev_step_m
+                                && prev_reused == reuse
                             {
                                 let theta = step_m / prev_m;
                                 if theta < MAX_CONTRACTION
@@ -307,12 +381,31 @@ impl NewtonSolver {
                                     break 'newton;
                                 }
                             }
-                            prev_step_m = full.then_some(step_m);
+                            prev_step_m = full.then_some((step_m, reuse));
+                            // Reuse this factorization next while the steps it gives
+                            // shrink fast enough (module doc, "Reused factorizations").
+                            reuse_next = cfg.reuse_factor
+                                && full
+                                && last_step_m
+                                    .is_none_or(|l| !reuse || step_m < REUSE_MAX_CONTRACTION * l);
+                            last_step_m = Some(step_m);
                             continue 'newton;
                         }
                     }
+                    if reuse {
+                        break;
+                    }
                     alpha *= 0.5;
                     report.halvings += 1;
+                }
+                if reuse {
+                    reuse = false;
+                    self.assemble::<true>(mesh, &held, ctx, false, known);
+                    continue;
+                }
+                attempt += 1;
+                if attempt > MAX_LM_RETRIES {
+                    break;
                 }
                 reg = if reg == 0.0 { 10.0 } else { reg * 100.0 };
             }
@@ -320,6 +413,7 @@ impl NewtonSolver {
             // a triangle over, that triangle's free vertices stay where they are for the rest
             // of the substep and the others go on (module doc, "Pinning"); else keep the
             // current iterate.
+            reuse_next = false;
             if Self::pin_turning(mesh, &frame.x_n, &self.x_trial, &mut held) {
                 report.pinned = true;
                 e0 = f64::NAN;
@@ -504,7 +598,7 @@ impl NewtonSolver {
     /// Fills `self.grad` and the system blocks at the current positions; returns the energy
     /// if `want_energy` (else 0). `theta`: the hinges' dihedral angles at the current
     /// positions, if known ([`Self::energy`] measured them there).
-    fn assemble(
+    fn assemble<const HESS: bool>(
         &mut self,
         mesh: &PhysMesh,
         fixed: &[bool],
@@ -512,7 +606,9 @@ impl NewtonSolver {
         want_energy: bool,
         theta_at_x: Option<&[f64]>,
     ) -> f64 {
-        self.sys.clear();
+        if HESS {
+            self.sys.clear();
+        }
         let x = &mesh.pos;
         let mut e = 0.0;
         for i in 0..x.len() {
@@ -521,17 +617,19 @@ impl NewtonSolver {
                 continue;
             }
             let (ei, gi, hi) =
-                Self::vertex_terms(i, &x[i], mesh.mass_kg[i], &self.x_hat[i], ctx, true);
+                Self::vertex_terms(i, &x[i], mesh.mass_kg[i], &self.x_hat[i], ctx, HESS);
             e += ei;
             self.grad[i] = gi;
-            self.sys.add_diag(i as u32, &hi);
+            if HESS {
+                self.sys.add_diag(i as u32, &hi);
+            }
         }
         let damp_s = ctx.params.membrane_damping_s / ctx.h;
         let mut g3 = [V3::zeros(); 3];
         let mut h3 = [[M3::zeros(); 3]; 3];
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let xs = tri.map(|i| x[i as usize]);
-            e += membrane::grad_hess(
+            e += membrane::grad_hess::<HESS>(
                 xs,
                 &mesh.tri_rest[t],
                 &ctx.frame.strain[t],
@@ -542,10 +640,14 @@ impl NewtonSolver {
             );
             for a in 0..3 {
                 self.grad[tri[a] as usize] += g3[a];
-                self.sys.add_diag(tri[a], &h3[a][a]);
             }
-            for (k, &(a, b)) in TRI_PAIRS.iter().enumerate() {
-                self.sys.add_off(self.tri_off[t][k], &h3[a][b]);
+            if HESS {
+                for a in 0..3 {
+                    self.sys.add_diag(tri[a], &h3[a][a]);
+                }
+                for (k, &(a, b)) in TRI_PAIRS.iter().enumerate() {
+                    self.sys.add_off(self.tri_off[t][k], &h3[a][b]);
+                }
             }
         }
         let damp_b = ctx.params.bending_damping_s / ctx.h;
@@ -566,11 +668,15 @@ impl NewtonSolver {
             let (de, c) = bending::dtheta_coeffs(theta, rest, th_n, ke, damp_b);
             for (&v, g) in hg.v.iter().zip(&gt) {
                 self.grad[v as usize] += g * de;
-                self.sys.add_diag(v, &(g * g.transpose() * c));
             }
-            for (p, &(a, b)) in HINGE_PAIRS.iter().enumerate() {
-                self.sys
-                    .add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
+            if HESS {
+                for (&v, g) in hg.v.iter().zip(&gt) {
+                    self.sys.add_diag(v, &(g * g.transpose() * c));
+                }
+                for (p, &(a, b)) in HINGE_PAIRS.iter().enumerate() {
+                    self.sys
+                        .add_off(self.hinge_off[k][p], &(gt[a] * gt[b].transpose() * c));
+                }
             }
         }
         // Sheet–sheet contact (sheet_contact.rs): the pairs' coupling is not in the sparsity
@@ -579,7 +685,7 @@ impl NewtonSolver {
         for pair in ctx.frame.sheet.pairs() {
             let sys = &mut self.sys;
             e += pair.accumulate(x, fixed, &mut self.grad, |p, d2e| {
-                if !sys.add_rank_one(&p.v, &p.w, &p.n, d2e, fixed) {
+                if HESS && !sys.add_rank_one(&p.v, &p.w, &p.n, d2e, fixed) {
                     p.diagonal_blocks(d2e, fixed, |v, b| sys.add_diag(v, b));
                 }
             });
@@ -720,12 +826,96 @@ mod tests {
             it_step += r_step.iterations;
             // The step rule's iterate is the closer one to the minimizer (its last step is
             // below the tolerance); the estimate's may lie at most about one tolerance away.
+            let mut w: f64 = 0.0;
             for (a, b) in early.pos.iter().zip(&mesh.pos) {
-                worst_m = worst_m.max((a - b).amax());
+                w = w.max((a - b).amax());
             }
+            worst_m = worst_m.max(w);
         }
         assert!(it_estimate < it_step, "{it_estimate} vs {it_step}");
         assert!(worst_m < 2.0 * cfg.tolerance_m, "{worst_m}");
+    }
+
+    #[test]
+    fn reused_factorizations_reach_the_same_state_with_fewer_factorizations() {
+        // The swinging sheet of the test above: each substep solved from the same start with
+        // and without reusing factorizations, stopping on the step alone so that both end
+        // within the tolerance of the minimizer.
+        let (mut mesh, obstacles, params, cfg) = setup(false);
+        let fixed: Vec<bool> = mesh.pattern.iter().map(|p| p.x < 1e-9).collect();
+        let target = mesh.pos.clone();
+        let kin = Kinematics {
+            fixed: &fixed,
+            target: &target,
+        };
+        let plain = SolverConfig {
+            reuse_factor: false,
+            stop_on_error_estimate: false,
+            iterations: 30,
+            ..cfg
+        };
+        let reusing = SolverConfig {
+            reuse_factor: true,
+            ..plain
+        };
+        let mut s = NewtonSolver::new(&mesh);
+        let mut frame = SubstepFrame::new(&mesh);
+        let (mut f_plain, mut f_reuse, mut reused, mut worst_m) = (0, 0, 0, 0.0f64);
+        for _ in 0..60 {
+            frame.capture(&mesh, &obstacles);
+            let mut other = mesh.clone();
+            let r = s.substep(
+                &mut other, &frame, kin, &obstacles, &params, &reusing, 0.005,
+            );
+            let p = s.substep(&mut mesh, &frame, kin, &obstacles, &params, &plain, 0.005);
+            assert!(!r.recovered && !p.recovered && !r.stalled && !p.stalled);
+            // Converged, not stopped by the cap.
+            assert!(r.iterations - r.reused_iterations < reusing.iterations);
+            assert_eq!(p.reused_iterations, 0);
+            assert_eq!(p.factorizations, p.iterations);
+            f_plain += p.factorizations;
+            f_reuse += r.factorizations;
+            reused += r.reused_iterations;
+            for (a, b) in other.pos.iter().zip(&mesh.pos) {
+                worst_m = worst_m.max((a - b).amax());
+            }
+        }
+        assert!(reused > 0);
+        assert!(f_reuse < f_plain, "{f_reuse} factorizations vs {f_plain}");
+        // Both iterates lie within a few tolerances of the same minimizer.
+        assert!(worst_m < 5.0 * cfg.tolerance_m, "{worst_m}");
+    }
+
+    #[test]
+    fn the_cap_counts_factorized_iterations() {
+        // A hard substep (a corner yanked 2 cm) with a cap of 2: at most 2 factorized
+        // iterations, and with reuse at most 2 more.
+        let (mesh, obstacles, params, cfg) = setup(false);
+        let mut fixed = vec![false; mesh.num_vertices()];
+        fixed[0] = true;
+        let mut target = mesh.pos.clone();
+        target[0] += V3::new(0.02, 0.0, 0.01);
+        let mut frame = SubstepFrame::new(&mesh);
+        frame.capture(&mesh, &obstacles);
+        for reuse_factor in [false, true] {
+            let c = SolverConfig {
+                iterations: 2,
+                reuse_factor,
+                ..cfg
+            };
+            let mut m = mesh.clone();
+            let mut s = NewtonSolver::new(&m);
+            let kin = Kinematics {
+                fixed: &fixed,
+                target: &target,
+            };
+            let r = s.substep(&mut m, &frame, kin, &obstacles, &params, &c, 0.005);
+            assert!(r.iterations - r.reused_iterations <= 2, "{r:?}");
+            assert!(r.iterations <= if reuse_factor { 4 } else { 2 }, "{r:?}");
+            if !reuse_factor {
+                assert_eq!(r.reused_iterations, 0);
+            }
+        }
     }
 
     #[test]

@@ -145,6 +145,11 @@ pub struct BlockSystem {
     lr_t: Vec<f64>,
     /// Number of numeric factorizations done (work counter for tests and benches).
     pub factorizations: u64,
+    /// The factor (and the Woodbury terms' W and capacitance factor) of the last
+    /// factorization is valid: [`Self::solve_again`] may use it.
+    factored: bool,
+    /// Rank-one terms in the last factorization's Woodbury correction.
+    factored_p: usize,
 }
 
 impl std::fmt::Debug for BlockSystem {
@@ -266,6 +271,8 @@ impl BlockSystem {
             lr_cap: vec![0.0; LOW_RANK_CAPACITY * LOW_RANK_CAPACITY],
             lr_t: vec![0.0; LOW_RANK_CAPACITY],
             factorizations: 0,
+            factored: false,
+            factored_p: 0,
         };
         if !THREAD_WARM.with(Cell::get) {
             sys.warm_up();
@@ -317,6 +324,8 @@ impl BlockSystem {
         );
         self.low_rank.clear();
         self.factorizations = 0;
+        self.factored = false;
+        self.factored_p = 0;
         self.rhs.iter_mut().for_each(|r| *r = 0.0);
     }
 
@@ -463,6 +472,7 @@ impl BlockSystem {
         diag_fixed: &[f64],
         reg: f64,
     ) -> Result<(), SolveError> {
+        self.factored = false;
         self.scatter(fixed, diag_fixed, reg);
         let dim = 3 * self.n;
         let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
@@ -479,80 +489,115 @@ impl BlockSystem {
                 supernode_llt_params(),
             )
             .map_err(|_| SolveError::NotPositiveDefinite)?;
+        let p = self.low_rank.len();
+        self.factored_p = 0;
+        if p > 0 {
+            let split = match (self.symbolic.raw(), self.symbolic.perm()) {
+                (SymbolicCholeskyRaw::Supernodal(sym), None) => {
+                    Some(SupernodalLltRef::new(sym, &self.l_values))
+                }
+                _ => None,
+            };
+            let Some(l) = split else {
+                // An unsplit factor cannot happen with the forced supernodal, unordered
+                // analysis of `new`; the coupling is dropped rather than solved wrongly.
+                self.low_rank.clear();
+                self.factored = true;
+                self.solve_factored();
+                return Ok(());
+            };
+            // Woodbury on the split factor A = L Lᵀ (module doc, step 5):
+            // W = L⁻¹ U, C = I + Wᵀ W, factorized once per factorization.
+            let w = &mut self.lr_z[..dim * p];
+            w.iter_mut().for_each(|v| *v = 0.0);
+            for (col, u) in self.low_rank.iter().enumerate() {
+                for &(i, val) in u {
+                    w[col * dim + i as usize] += val;
+                }
+            }
+            let wm = MatMut::from_column_major_slice_mut(w, dim, p);
+            l.l_solve_with_conj(Conj::No, wm, Par::Seq, MemStack::new(&mut self.mem));
+            let w = faer::MatRef::from_column_major_slice(&self.lr_z[..dim * p], dim, p);
+            let cap = &mut self.lr_cap[..p * p];
+            let mut cm = MatMut::from_column_major_slice_mut(cap, p, p);
+            matmul(&mut cm, Accum::Replace, w.transpose(), w, 1.0, Par::Seq);
+            for k in 0..p {
+                cm[(k, k)] += 1.0;
+            }
+            faer::linalg::cholesky::llt::factor::cholesky_in_place(
+                MatMut::from_column_major_slice_mut(cap, p, p),
+                LltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut self.mem),
+                Default::default(),
+            )
+            .map_err(|_| SolveError::NotPositiveDefinite)?;
+            self.factored_p = p;
+        }
+        self.factored = true;
+        self.solve_factored();
+        Ok(())
+    }
+
+    /// Solves `rhs` in place again with the matrix of the last successful
+    /// [`Self::factorize_and_solve`] (its factor and rank-one terms), whatever has been
+    /// assembled since. Returns false, leaving `rhs` as it is, if there is no such factor.
+    pub fn solve_again(&mut self) -> bool {
+        if !self.factored {
+            return false;
+        }
+        self.solve_factored();
+        true
+    }
+
+    /// `rhs ← A⁻¹ rhs` with the current factor and the factorized Woodbury terms.
+    fn solve_factored(&mut self) {
+        let dim = 3 * self.n;
         for (y, &k) in self.permuted_rhs.iter_mut().zip(&self.perm_fwd) {
             *y = self.rhs[k];
         }
-        let p = self.low_rank.len();
+        let p = self.factored_p;
         // The factor's supernodes, to solve with L and Lᵀ separately (the pattern is stored
         // permuted, so faer's factor has no ordering of its own).
-        let split = match (self.symbolic.raw(), self.symbolic.perm()) {
-            (SymbolicCholeskyRaw::Supernodal(sym), None) if p > 0 => {
-                Some(SupernodalLltRef::new(sym, &self.l_values))
+        let split = if p > 0 {
+            match (self.symbolic.raw(), self.symbolic.perm()) {
+                (SymbolicCholeskyRaw::Supernodal(sym), None) => {
+                    Some(SupernodalLltRef::new(sym, &self.l_values))
+                }
+                _ => None,
             }
-            _ => None,
+        } else {
+            None
         };
-        let Some(l) = split else {
+        if let Some(l) = split {
+            // x = L⁻ᵀ (y − W C⁻¹ Wᵀ y), y = L⁻¹ b.
+            let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
+            l.l_solve_with_conj(Conj::No, y, Par::Seq, MemStack::new(&mut self.mem));
+            let w = faer::MatRef::from_column_major_slice(&self.lr_z[..dim * p], dim, p);
+            let y = faer::MatRef::from_column_major_slice(&self.permuted_rhs, dim, 1);
+            let t = MatMut::from_column_major_slice_mut(&mut self.lr_t[..p], p, 1);
+            matmul(t, Accum::Replace, w.transpose(), y, 1.0, Par::Seq);
+            faer::linalg::cholesky::llt::solve::solve_in_place_with_conj(
+                faer::MatRef::from_column_major_slice(&self.lr_cap[..p * p], p, p),
+                Conj::No,
+                MatMut::from_column_major_slice_mut(&mut self.lr_t[..p], p, 1),
+                Par::Seq,
+                MemStack::new(&mut self.mem),
+            );
+            let s = faer::MatRef::from_column_major_slice(&self.lr_t[..p], p, 1);
+            let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
+            matmul(y, Accum::Add, w, s, -1.0, Par::Seq);
+            let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
+            l.l_transpose_solve_with_conj(Conj::No, y, Par::Seq, MemStack::new(&mut self.mem));
+        } else {
             let llt = LltRef::new(&self.symbolic, &self.l_values);
             let rhs = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
             let stack = MemStack::new(&mut self.mem);
             llt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
-            if p > 0 {
-                // An unsplit factor cannot happen with the forced supernodal, unordered
-                // analysis of `new`; the coupling is dropped rather than solved wrongly.
-                self.low_rank.clear();
-            }
-            for (&y, &k) in self.permuted_rhs.iter().zip(&self.perm_fwd) {
-                self.rhs[k] = y;
-            }
-            return Ok(());
-        };
-        // Woodbury on the split factor A = L Lᵀ (module doc, step 5):
-        // y = L⁻¹ b, W = L⁻¹ U, C = I + Wᵀ W, x = L⁻ᵀ (y − W C⁻¹ Wᵀ y).
-        let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
-        l.l_solve_with_conj(Conj::No, y, Par::Seq, MemStack::new(&mut self.mem));
-        let w = &mut self.lr_z[..dim * p];
-        w.iter_mut().for_each(|v| *v = 0.0);
-        for (col, u) in self.low_rank.iter().enumerate() {
-            for &(i, val) in u {
-                w[col * dim + i as usize] += val;
-            }
         }
-        let wm = MatMut::from_column_major_slice_mut(w, dim, p);
-        l.l_solve_with_conj(Conj::No, wm, Par::Seq, MemStack::new(&mut self.mem));
-        let w = faer::MatRef::from_column_major_slice(&self.lr_z[..dim * p], dim, p);
-        let cap = &mut self.lr_cap[..p * p];
-        let mut cm = MatMut::from_column_major_slice_mut(cap, p, p);
-        matmul(&mut cm, Accum::Replace, w.transpose(), w, 1.0, Par::Seq);
-        for k in 0..p {
-            cm[(k, k)] += 1.0;
-        }
-        let y = faer::MatRef::from_column_major_slice(&self.permuted_rhs, dim, 1);
-        let t = MatMut::from_column_major_slice_mut(&mut self.lr_t[..p], p, 1);
-        matmul(t, Accum::Replace, w.transpose(), y, 1.0, Par::Seq);
-        faer::linalg::cholesky::llt::factor::cholesky_in_place(
-            MatMut::from_column_major_slice_mut(cap, p, p),
-            LltRegularization::default(),
-            Par::Seq,
-            MemStack::new(&mut self.mem),
-            Default::default(),
-        )
-        .map_err(|_| SolveError::NotPositiveDefinite)?;
-        faer::linalg::cholesky::llt::solve::solve_in_place_with_conj(
-            faer::MatRef::from_column_major_slice(cap, p, p),
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut self.lr_t[..p], p, 1),
-            Par::Seq,
-            MemStack::new(&mut self.mem),
-        );
-        let s = faer::MatRef::from_column_major_slice(&self.lr_t[..p], p, 1);
-        let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
-        matmul(y, Accum::Add, w, s, -1.0, Par::Seq);
-        let y = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, dim, 1);
-        l.l_transpose_solve_with_conj(Conj::No, y, Par::Seq, MemStack::new(&mut self.mem));
         for (&y, &k) in self.permuted_rhs.iter().zip(&self.perm_fwd) {
             self.rhs[k] = y;
         }
-        Ok(())
     }
 }
 
@@ -854,5 +899,41 @@ mod tests {
         assert!(r0.norm() > 1e-2, "residual without the terms {}", r0.norm());
         s.clear();
         assert_eq!(s.low_rank_len(), 0);
+        // The factor stays: a new right-hand side solves with the same matrix, terms
+        // included, whatever was assembled since (the blocks were just cleared).
+        let rhs2: Vec<f64> = (0..3 * n).map(|k| (k as f64 * 1.3).sin() + 0.2).collect();
+        s.rhs.copy_from_slice(&rhs2);
+        assert!(s.solve_again());
+        let x2 = nalgebra::DVector::from_column_slice(&s.rhs);
+        let r2 = &dense * &x2 - nalgebra::DVector::from_column_slice(&rhs2);
+        assert!(
+            r2.norm() < 1e-12,
+            "residual of the reused factor {}",
+            r2.norm()
+        );
+    }
+
+    #[test]
+    fn solve_again_needs_a_successful_factorization() {
+        let n = 3;
+        let chain = [[0u32, 1], [1, 2]];
+        let (mut s, _) = system_and_dense(n, &chain, |_| 2.0, M3::identity() * -0.5);
+        let free = [false; 3];
+        let ones = [1.0; 3];
+        s.rhs.iter_mut().for_each(|r| *r = 1.0);
+        assert!(!s.solve_again(), "no factorization yet");
+        assert!(s.rhs.iter().all(|&r| r == 1.0), "rhs untouched");
+        s.factorize_and_solve(&free, &ones, 0.0).unwrap();
+        let first = s.rhs.clone();
+        s.rhs.iter_mut().for_each(|r| *r = 1.0);
+        assert!(s.solve_again());
+        assert_eq!(s.rhs, first, "the same factor gives the same bits");
+        // An indefinite matrix fails to factorize, and its failure leaves no factor behind.
+        s.clear();
+        for i in 0..n as u32 {
+            s.add_diag(i, &(M3::identity() * -1.0));
+        }
+        assert!(s.factorize_and_solve(&free, &ones, 0.0).is_err());
+        assert!(!s.solve_again());
     }
 }
