@@ -126,7 +126,7 @@ impl Default for SolverConfig {
     /// easy frames still stop after 1–2 iterations.
     ///
     /// **Reused factorizations: on** ([`newton`], "Reused factorizations"). Over the crumples C5
-    /// and S4 played with seeds 1–300, the median frame falls to 0.77–0.82× (docs/benchmarks.md,
+    /// and S4 played with seeds 1–300, the median frame falls to 0.76–0.82× (docs/benchmarks.md,
     /// 2026-12-01), with no more runs beyond the strain health limit than without.
     ///
     /// **Contact coupling: 32 pairs** (`docs/benchmarks.md`, report of 2026-11-27 09:19). With
