@@ -105,8 +105,10 @@
 //! Those figures are with every insertion at s̄. Since an insertion that would start
 //! strained goes to a less strained place next to s̄ (sheet/refine.rs, step 2), the cause is
 //! mostly gone: over C5 and S4 with seeds 1–150, 5 runs relax an undone frame (to 0.019–0.102)
-//! and none needs the shorter substeps. The tests
-//! (`tests/undone_frames.rs`) play the old insertions to keep both attempts covered.
+//! and none needs the shorter substeps. With the Newton solver reusing its factorizations,
+//! whose courses are others (physics/newton.rs, "Reused factorizations"), 5 of the 600 runs
+//! with seeds 1–300 relax one, and C5 seed 181 and S4 seed 130 need the shorter substeps. The tests (`tests/undone_frames.rs`) cover both attempts, one case with the old
+//! insertions.
 //!
 //! ## The pass-through guard
 //!
@@ -128,7 +130,9 @@
 //! undone frames, the longest streak 163 → 23 frames; three runs then play on with a
 //! crossing inside a fold (S4 seeds 8, 41 and 117: 162, 120 and 13 frames keep a crossed
 //! start), and S4 seed 117's frame that goes through strains the sheet by 0.131 (0.100 before).
-//! No seed scene undoes a frame, so none plays differently.
+//! No seed scene undoes a frame, so none plays differently. (Those are the plain Newton
+//! solver's courses; with reused factorizations one run of the 600 with seeds 1–300 keeps a
+//! crossed start, S4 seed 181, for one frame: `tests/crossed_start.rs`.)
 //!
 //! ## Sleeping
 //!

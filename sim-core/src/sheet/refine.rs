@@ -44,7 +44,11 @@
 //!    σ/√2, 0.7 mm by default; the split is at most [`EDGE_SPLIT_BARY`] of t's height away, a
 //!    third of it where the triangle split was refused) is dropped and only the position along
 //!    the edge is kept. In the seeds the problem does not arise, because S_P is rebuilt around
-//!    s̄ every frame (§2.2). Of the 12 seed scenes only S4 plays differently for it.
+//!    s̄ every frame (§2.2). Of the 12 seed scenes only S4 plays differently for it. (These are
+//!    the plain Newton solver's courses. With it reusing factorizations the courses changed,
+//!    and where every candidate starts strained the least strained one may be a sliver whose
+//!    triangle is strained far beyond its edges: C5 seed 40 starts one at 0.71, its edges at
+//!    7 %; docs/benchmarks.md, "Reused factorizations".)
 //! 3. **Lawson flips** restore the Delaunay property around the new vertex in the pattern
 //!    (the seeds triangulate flat regions by Delaunay, T 738): an edge opposite the new vertex
 //!    whose far vertex lies inside the circumcircle of the new triangle is flipped, and the two
