@@ -1,7 +1,8 @@
 //! Newton iterations per frame of a scene (`NAME` or `NAME@SEED`), as a histogram (the last
 //! bin: 11 or more, reused-factorization iterations included); `COUPLING=N`, `NOGEOM=1`,
 //! `REUSE=0` (`SolverConfig::reuse_factor` off), `INS_STRAIN=X`
-//! (`GeometryConfig::insertion_max_start_strain`, `inf` = off).
+//! (`GeometryConfig::insertion_max_start_strain`, `inf` = off), `CUT=0|1`
+//! (`GeometryConfig::cut_strips` off / on).
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, SimConfig};
@@ -26,6 +27,11 @@ fn main() {
     }
     if std::env::var("REUSE").is_ok_and(|v| v == "0") {
         cfg.solver.reuse_factor = false;
+    }
+    match std::env::var("CUT").as_deref() {
+        Ok("0") => cfg.geometry.cut_strips = false,
+        Ok("1") => cfg.geometry.cut_strips = true,
+        _ => {}
     }
     if std::env::var_os("NOGEOM").is_some() {
         cfg.geometry.enabled = false;
