@@ -3,7 +3,9 @@
 //! frame's largest strain, line-search halvings and pinned substeps.
 //!
 //! `cargo run --release -p sim-core --example stress_fixture -- SEED FRAME OUT.json` saves the
-//! state after frame FRAME of `sim-stress --seed SEED --sessions 1`.
+//! state after frame FRAME of `sim-stress --seed SEED --sessions 1`; `REUSE=0` steps the restored
+//! sheet without reused factorizations, `ITERS=N` with N Newton iterations per substep,
+//! `SUBSTEPS=N` with N substeps per frame.
 use sim_core::sim::{FrameOutput, Sim, SimConfig};
 use sim_core::stress::{StressConfig, run_with};
 
@@ -36,7 +38,17 @@ fn main() {
     let json = serde_json::to_string(&saved).expect("serialize");
     std::fs::write(&path, &json).expect("write");
     println!("{path}: {} bytes", json.len());
-    let mut sim = Sim::restore(SimConfig::default(), &saved).expect("restore");
+    // `REUSE=0`: the restored sheet steps without reused factorizations
+    // (`SolverConfig::reuse_factor`).
+    let mut replay = SimConfig::default();
+    replay.solver.reuse_factor = !std::env::var("REUSE").is_ok_and(|v| v == "0");
+    if let Some(n) = std::env::var("ITERS").ok().and_then(|v| v.parse().ok()) {
+        replay.solver.iterations = n;
+    }
+    if let Some(n) = std::env::var("SUBSTEPS").ok().and_then(|v| v.parse().ok()) {
+        replay.solver.substeps = n;
+    }
+    let mut sim = Sim::restore(replay, &saved).expect("restore");
     let mut out = FrameOutput::default();
     for k in 1..=3 {
         sim.step(&mut out);

@@ -3,10 +3,11 @@
 //! ```text
 //! cargo run --release -p sim-core --bin sim-stress -- [--frames N] [--seed S] [--sessions K]
 //!     [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips]
-//!     [--contact-coupling N] [--trace]
+//!     [--contact-coupling N] [--no-reuse] [--trace]
 //! ```
 //!
 //! `--cut-strips` turns on the opt-in strip cutting (`GeometryConfig::cut_strips`);
+//! `--no-reuse` turns off the reused factorizations (`SolverConfig::reuse_factor`);
 //! `--contact-coupling N` sets `SolverConfig::contact_coupling_pairs` (0: the contact pairs'
 //! diagonal Hessian blocks only).
 //!
@@ -29,6 +30,7 @@ fn main() {
     let mut trace = false;
     let mut geometry = true;
     let mut cut_strips = false;
+    let mut reuse = true;
     let mut coupling: Option<u32> = None;
     let mut stretch_scale: Option<f64> = None;
     let mut args = std::env::args().skip(1);
@@ -51,6 +53,7 @@ fn main() {
             "--trace" => trace = true,
             "--no-geometry" => geometry = false,
             "--cut-strips" => cut_strips = true,
+            "--no-reuse" => reuse = false,
             "--contact-coupling" => {
                 coupling = Some(
                     val()
@@ -79,6 +82,7 @@ fn main() {
         let mut sim = SimConfig::default();
         sim.geometry.enabled = geometry;
         sim.geometry.cut_strips = cut_strips;
+        sim.solver.reuse_factor = reuse;
         sim.solver.kind = solver;
         if let Some(k) = stretch_scale {
             sim.solver.stretch_scale = k;
@@ -138,7 +142,7 @@ fn usage(msg: &str) -> ! {
         eprintln!("sim-stress: {msg}");
     }
     eprintln!(
-        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--contact-coupling N] [--trace]"
+        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--contact-coupling N] [--no-reuse] [--trace]"
     );
     std::process::exit(2);
 }
