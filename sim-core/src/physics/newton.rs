@@ -789,9 +789,8 @@ mod tests {
         // A sheet held along one edge swings down under gravity: every substep takes several
         // iterations. Each substep is solved from the same start with both stopping rules.
         let (mut mesh, obstacles, params, cfg) = setup(false);
-        let fixed: Vec<bool> = mesh.pattern.iter().map(|p| p.x < 1e-9).collect();
+        let (fixed, target) = left_edge_held(&mesh);
         assert!(fixed.iter().any(|&f| f) && !fixed.iter().all(|&f| f));
-        let target = mesh.pos.clone();
         let kin = Kinematics {
             fixed: &fixed,
             target: &target,
@@ -826,14 +825,24 @@ mod tests {
             it_step += r_step.iterations;
             // The step rule's iterate is the closer one to the minimizer (its last step is
             // below the tolerance); the estimate's may lie at most about one tolerance away.
-            let mut w: f64 = 0.0;
-            for (a, b) in early.pos.iter().zip(&mesh.pos) {
-                w = w.max((a - b).amax());
-            }
-            worst_m = worst_m.max(w);
+            worst_m = worst_m.max(largest_difference_m(&early.pos, &mesh.pos));
         }
         assert!(it_estimate < it_step, "{it_estimate} vs {it_step}");
         assert!(worst_m < 2.0 * cfg.tolerance_m, "{worst_m}");
+    }
+
+    /// The swinging sheet's kinematics: the vertices of its left edge held where they are.
+    fn left_edge_held(mesh: &PhysMesh) -> (Vec<bool>, Vec<V3>) {
+        let fixed = mesh.pattern.iter().map(|p| p.x < 1e-9).collect();
+        (fixed, mesh.pos.clone())
+    }
+
+    /// Largest coordinate difference between two sets of positions, metres.
+    fn largest_difference_m(a: &[V3], b: &[V3]) -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(a, b)| (a - b).amax())
+            .fold(0.0, f64::max)
     }
 
     #[test]
@@ -842,8 +851,7 @@ mod tests {
         // and without reusing factorizations, stopping on the step alone so that both end
         // within the tolerance of the minimizer.
         let (mut mesh, obstacles, params, cfg) = setup(false);
-        let fixed: Vec<bool> = mesh.pattern.iter().map(|p| p.x < 1e-9).collect();
-        let target = mesh.pos.clone();
+        let (fixed, target) = left_edge_held(&mesh);
         let kin = Kinematics {
             fixed: &fixed,
             target: &target,
@@ -876,9 +884,7 @@ mod tests {
             f_plain += p.factorizations;
             f_reuse += r.factorizations;
             reused += r.reused_iterations;
-            for (a, b) in other.pos.iter().zip(&mesh.pos) {
-                worst_m = worst_m.max((a - b).amax());
-            }
+            worst_m = worst_m.max(largest_difference_m(&other.pos, &mesh.pos));
         }
         assert!(reused > 0);
         assert!(f_reuse < f_plain, "{f_reuse} factorizations vs {f_plain}");
