@@ -1,5 +1,5 @@
 //! Restores a saved sheet (JSON, as `stress_fixture` writes it) and steps it a few frames,
-//! printing each frame's largest strain, halvings, pinned and held-back substeps.
+//! printing each frame's largest strain, halvings, pinned, held-back and split substeps.
 //!
 //! `cargo run --release -p sim-core --example fixture_step -- STATE.json [FRAMES]`
 use sim_core::sim::{FrameOutput, SavedSheet, Sim, SimConfig};
@@ -11,18 +11,24 @@ fn main() {
         .map_or(3, |s| s.parse().expect("frames"));
     let json = std::fs::read_to_string(&path).expect("read");
     let saved: SavedSheet = serde_json::from_str(&json).expect("parse");
-    let mut sim = Sim::restore(SimConfig::default(), &saved).expect("restore");
+    let mut cfg = SimConfig::default();
+    cfg.geometry.enabled = std::env::var("NOGEOM").is_err();
+    let mut sim = Sim::restore(cfg, &saved).expect("restore");
     let mut out = FrameOutput::default();
     for k in 1..=frames {
         sim.step(&mut out);
         let s = &out.stats;
+        if std::env::var("STATS").is_ok() {
+            println!("{s:?}");
+        }
         println!(
-            "+{k}: strain {:.3}, halvings {}, iterations {}, pinned {}, held back {}, flipped {}",
+            "+{k}: strain {:.3}, halvings {}, iterations {}, pinned {}, held back {}, split {}, flipped {}",
             sim.metrics().max_strain,
             s.halvings,
             s.iterations,
             s.pinned_substeps,
             s.held_back_substeps,
+            s.split_substeps,
             s.num_flipped
         );
     }

@@ -83,7 +83,9 @@ pub struct Metrics {
     pub kinetic_energy_j: f64,
     /// Largest vertex speed, m/s.
     pub max_speed_m_s: f64,
-    /// Triangles whose normal turned by more than 90° since the previous frame.
+    /// Triangles whose normal turned by more than 90° since the previous frame — or, in a
+    /// frame whose substep was solved as shorter ones, since the start of its last one
+    /// (sim.rs, "A substep solved as shorter ones": continuity at the solver's resolution).
     pub num_flipped: usize,
     /// Triangles with less than 1 % of their pattern area (or non-finite).
     pub num_degenerate: usize,
@@ -126,6 +128,14 @@ impl MetricsTracker {
                 .tri_normal(t)
                 .try_normalize(0.0)
                 .unwrap_or_else(V3::zeros);
+        }
+    }
+
+    /// Takes `normals` (saved from [`Self::previous_normals`] for the same mesh) back as the
+    /// reference; ignored if their count does not fit.
+    pub fn set_previous_normals(&mut self, normals: &[V3]) {
+        if normals.len() == self.prev_normal.len() {
+            self.prev_normal.copy_from_slice(normals);
         }
     }
 

@@ -261,6 +261,21 @@ pub struct SubstepReport {
     pub capped: bool,
 }
 
+impl SubstepReport {
+    /// Adds the work of `other` (iterations, halvings, factorizations) to this report and
+    /// ORs its flags in: the report of several substeps taken as one.
+    pub fn add(&mut self, other: &Self) {
+        self.iterations += other.iterations;
+        self.halvings += other.halvings;
+        self.reused_iterations += other.reused_iterations;
+        self.factorizations += other.factorizations;
+        self.recovered |= other.recovered;
+        self.pinned |= other.pinned;
+        self.stalled |= other.stalled;
+        self.capped |= other.capped;
+    }
+}
+
 /// True if some triangle of `mesh` turns by more than 90° (its normal reverses) between
 /// positions `a` and `b` (false if the positions do not fit the mesh).
 pub fn turns_a_triangle_over(mesh: &PhysMesh, a: &[V3], b: &[V3]) -> bool {

@@ -8,8 +8,9 @@
 //! invariants the physics must keep:
 //!
 //! - every position and velocity finite, inside the room box;
-//! - no flipped triangle (orientation continuity, [`crate::metrics`]), no degenerate triangle
-//!   and no recovered substep;
+//! - no flipped triangle (orientation continuity, [`crate::metrics`], at the solver's own
+//!   resolution: a frame solved as shorter substeps is continuous over each of them, sim.rs
+//!   "A substep solved as shorter ones"), no degenerate triangle and no recovered substep;
 //! - bounded speed (no explosion) and bounded strain;
 //! - a valid mesh (topology and S_G consistency, checked periodically and at the end).
 //!

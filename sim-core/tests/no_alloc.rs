@@ -224,20 +224,22 @@ fn a_sheet_built_on_another_thread_steps_without_allocating_after_the_warm_up() 
 
 /// The Newton solve's pinning (`physics/newton.rs`, "Pinning") allocates nothing: the sheet of
 /// `tests/fixtures/stress_seed2_frame6452.json` (see `tests/stalled_substeps.rs`) pins vertices
-/// in each of its next frames; after the first of them (the thread's warm-up), none allocates.
+/// in its first frame (and the substep is then solved again as shorter ones, which pin too). A
+/// first copy of it steps that frame to warm the thread up; a second copy's same frame is
+/// counted.
 #[test]
 fn a_pinning_solve_does_not_allocate() {
-    let mut sim = common::restore_fixture(include_str!("fixtures/stress_seed2_frame6452.json"));
+    let fixture = include_str!("fixtures/stress_seed2_frame6452.json");
     let mut out = FrameOutput::default();
-    sim.step(&mut out);
-    let mut pinned = 0;
+    common::restore_fixture(fixture).step(&mut out);
+    let mut sim = common::restore_fixture(fixture);
     let mut refined = 0;
-    let n = count(|| {
-        for _ in 0..2 {
-            step(&mut sim, &mut out, &mut refined);
-            pinned += out.stats.pinned_substeps;
-        }
-    });
+    let n = count(|| step(&mut sim, &mut out, &mut refined));
+    let pinned = out.stats.pinned_substeps;
+    assert_eq!(
+        refined, 0,
+        "the counted frame changed the mesh and was not counted"
+    );
     assert!(
         pinned > 0,
         "the fixture no longer makes the solve pin (regenerate it)"
@@ -270,6 +272,29 @@ fn a_substep_solved_again_does_not_allocate() {
         n, 0,
         "{n} allocations in a frame that solved a substep again"
     );
+}
+
+/// A substep solved again as shorter ones (`sim.rs`, "A substep solved as shorter ones")
+/// allocates nothing: the sheet of `tests/fixtures/stress_seed5_frame39736.json` splits a
+/// substep in its first frame. A first copy of it steps that frame to warm the thread up; a
+/// second copy's same frame is counted.
+#[test]
+fn a_substep_solved_as_shorter_ones_does_not_allocate() {
+    let fixture = include_str!("fixtures/stress_seed5_frame39736.json");
+    let mut out = FrameOutput::default();
+    common::restore_fixture(fixture).step(&mut out);
+    let mut sim = common::restore_fixture(fixture);
+    let mut refined = 0;
+    let n = count(|| step(&mut sim, &mut out, &mut refined));
+    assert_eq!(
+        refined, 0,
+        "the counted frame changed the mesh and was not counted"
+    );
+    assert!(
+        out.stats.split_substeps > 0,
+        "the fixture no longer splits a substep in its first frame (regenerate it)"
+    );
+    assert_eq!(n, 0, "{n} allocations in a frame that split a substep");
 }
 
 /// With strip cutting on, the frames between mesh changes allocate nothing either, the

@@ -64,14 +64,14 @@
 //! assembles only the gradient and solves with the factor it already has
 //! ([`BlockSystem::solve_again`]: the previous H, its contact pairs' rank-one terms and their
 //! capacitance factor included), and it keeps doing so while each such step is shorter than
-//! [`REUSE_MAX_CONTRACTION`] of the one before; a slower step, any halving, damping or
+//! `REUSE_MAX_CONTRACTION` of the one before; a slower step, any halving, damping or
 //! pinning, and the next iteration factorizes afresh. A reused step the line search refuses
 //! at α = 1, or that is not a descent direction, is not halved: H is assembled and factorized
 //! at the same iterate and the iteration goes on as usual. Every accepted step still lowers
 //! E (the Armijo test is the same), so the method converges to the same minimizer; it takes
 //! more iterations, each much cheaper. The cap [`SolverConfig::iterations`] counts the
 //! factorized iterations, and the reused ones may add as many again
-//! ([`REUSE_ITERATION_FACTOR`]). Measured with a temporary probe that solved every substep
+//! (`REUSE_ITERATION_FACTOR`). Measured with a temporary probe that solved every substep
 //! of C5, S4 and C2 a second time from the same start with reuse: with the cap of 10 on all
 //! iterations, 1.3–1.8× as many substeps as the plain method's ended at the cap, unconverged;
 //! with the cap on factorized iterations, 0.3–0.6× as many, in 0.73–0.92× the solver's time.
