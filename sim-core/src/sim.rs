@@ -76,18 +76,20 @@
 //!
 //! ## A substep solved as shorter ones
 //!
-//! Adaptive time stepping, for what solving again from rest does not mend: a solve that ends
-//! short of its solution — at the iteration cap (physics/newton.rs, "Stopping"), stalled
-//! or pinned — and leaves some triangle strained beyond [`HOLD_BACK_STRAIN`], more than at its
-//! start (and that solving again with the hands held back did not better), is solved again
-//! from its start as 2, 4, then 8 substeps of a half, quarter and eighth of its length
-//! ([`SPLIT_FACTORS`]), the hands' targets interpolated along the substep
-//! ([`crate::gesture_rig::GestureRig::fill_kinematics`]) and the momentum kept. A shorter
-//! step has a closer predictor and a better-conditioned system, so Newton reaches its
+//! Adaptive time stepping, for what solving again from rest does not mend. A substep whose
+//! first solve stands after the section above — one that turned a triangle over, or ended
+//! short of its solution (at the iteration cap, physics/newton.rs "Stopping", stalled or
+//! pinned) leaving some triangle strained beyond [`HOLD_BACK_STRAIN`] and more than at its
+//! start — is solved again from its start as 2, 4, then 8 substeps of a half, quarter and
+//! eighth of its length ([`SPLIT_FACTORS`]), the hands' targets interpolated along the
+//! substep ([`crate::gesture_rig::GestureRig::fill_kinematics`]) and the momentum kept. A
+//! shorter step has a closer predictor and a better-conditioned system, so Newton reaches its
 //! solution within the cap where the long step could not (implicit Euler's error and
-//! nonlinearity both grow with the step). A split counts if none of its substeps turns a
-//! triangle over or recovers and it leaves at most [`HOLD_BACK_GAIN`] of the strain of the
-//! best solve so far; the ladder stops at the first that counts with no more than
+//! nonlinearity both grow with the step), and a hand's jump split in parts drags its
+//! neighbours along instead of turning a small triangle over. A split counts if none of its
+//! substeps turns a triangle over or recovers and it leaves at most [`HOLD_BACK_GAIN`] of the
+//! strain of the best solve so far (after a turn-over: no more than the first, or
+//! [`HOLD_BACK_STRAIN`]); the ladder stops at the first that counts with no more than
 //! [`HOLD_BACK_STRAIN`], and the best that counted stands (else the first solve does).
 //! Counted in [`FrameStats::split_substeps`].
 //!
@@ -103,9 +105,11 @@
 //!
 //! Found by the long hostile stress run of 2026-12-01 (reused factorizations): sessions 5, 8,
 //! 14, 19 and 20 of `sim-stress --frames 50000 --seed S --sessions 1` ended at strain 1.21,
-//! 1.14, 1.46, 1.01 and 1.79 from a capped substep. From the states saved just before
-//! (`tests/stalled_substeps.rs`) the split ends their frames at 0.203, 0.597, 0.191, 0.164
-//! and 0.215; 20 or 40 Newton iterations instead of 10 left seed 5's at 1.201. No seed scene
+//! 1.14, 1.46, 1.01 and 1.79 from a capped substep, session 15 with a turned triangle that
+//! solving again from rest turned too. From the states saved just before
+//! (`tests/stalled_substeps.rs`) the split ends their frames at 0.203, 0.597, 0.438, 0.164
+//! and 0.239, and turns nothing over in seed 15's; 20 or 40 Newton iterations instead of 10
+//! left seed 5's at 1.201. No seed scene
 //! ever strains beyond [`HOLD_BACK_STRAIN`], so none plays differently (`scenario_probe`
 //! hashes).
 //!
@@ -339,9 +343,10 @@ pub struct FrameStats {
     /// strained beyond [`HOLD_BACK_STRAIN`] — whose second solve stood (module doc, "A
     /// substep solved again"); 0 in the seed scenes.
     pub held_back_substeps: u32,
-    /// Substeps whose solve ended short (capped, stalled or pinned) and left a triangle
-    /// strained beyond [`HOLD_BACK_STRAIN`], solved again as shorter ones ([`SPLIT_FACTORS`])
-    /// that stood (module doc, "A substep solved as shorter ones"); 0 in the seed scenes.
+    /// Substeps that turned a triangle over, or whose solve ended short (capped, stalled or
+    /// pinned) and left a triangle strained beyond [`HOLD_BACK_STRAIN`], solved again as
+    /// shorter ones ([`SPLIT_FACTORS`]) that stood (module doc, "A substep solved as shorter
+    /// ones"); 0 in the seed scenes.
     pub split_substeps: u32,
     /// Frames in a row (this one included) whose motion was undone because it would have
     /// passed the sheet through itself (0 = this frame went through; gesture_rig.rs
@@ -420,6 +425,9 @@ pub struct Sim {
     /// (`solve_substep_split`; preallocated).
     split_start_pos: Vec<V3>,
     split_start_vel: Vec<V3>,
+    /// `split_start_pos`/`split_start_vel` hold this substep's start already (saved by
+    /// `solve_substep_again`).
+    split_start_saved: bool,
     /// The flipped-triangle reference ([`MetricsTracker::previous_normals`]) before a split
     /// substep advanced it, and at the frame's start if a split advanced it this frame
     /// (`frame_normals_saved`): an undone frame goes back to it (preallocated).
@@ -515,6 +523,7 @@ impl Sim {
             stalled_vel: Vec::with_capacity(mesh_capacity.0),
             split_start_pos: Vec::with_capacity(mesh_capacity.0),
             split_start_vel: Vec::with_capacity(mesh_capacity.0),
+            split_start_saved: false,
             split_start_normals: Vec::with_capacity(mesh_capacity.1),
             frame_start_normals: Vec::with_capacity(mesh_capacity.1),
             frame_normals_saved: false,
@@ -918,6 +927,11 @@ impl Sim {
         self.stalled_vel.clone_from(&sp.vel);
         let hands = self.rig.state.hands;
         self.physics.restore_substep_start(&mut self.sheet.sp);
+        // The substep's start with its momentum, for a split after this (the second solve
+        // starts at rest and overwrites the physics' copy).
+        self.split_start_pos.clone_from(&self.sheet.sp.pos);
+        self.split_start_vel.clone_from(&self.sheet.sp.vel);
+        self.split_start_saved = true;
         self.sheet.sp.vel.fill(V3::zeros());
         self.rig.undo_frame_motion();
         self.rig
@@ -944,13 +958,16 @@ impl Sim {
         Some((false, second))
     }
 
-    /// A substep (its report `r`, from `frac0` to `frac` of the frame, `h` seconds) whose
-    /// solve ended short of its solution — at the iteration cap, stalled or pinned — and left
-    /// the sheet strained beyond [`HOLD_BACK_STRAIN`] and more than at its start, is solved
+    /// A substep (its report `r`, from `frac0` to `frac` of the frame, `h` seconds) that
+    /// turned a triangle over, or whose solve ended short of its solution — at the iteration
+    /// cap, stalled or pinned — and left the sheet strained beyond [`HOLD_BACK_STRAIN`] and
+    /// more than at its start, is solved
     /// again from its start as `n` substeps of `h / n` for each `n` of [`SPLIT_FACTORS`] in
     /// turn, the hands' targets interpolated between (module doc, "A substep solved as shorter
     /// ones"). A split counts if none of its substeps turns a triangle over or recovers and it
-    /// leaves at most [`HOLD_BACK_GAIN`] of the strain of the best solve so far; the ladder
+    /// leaves at most [`HOLD_BACK_GAIN`] of the strain of the best solve so far (after a
+    /// turn-over, the first solve counts with the larger of its strain and
+    /// [`HOLD_BACK_STRAIN`], divided by [`HOLD_BACK_GAIN`]); the ladder
     /// stops at the first that counts and leaves no more than [`HOLD_BACK_STRAIN`]. The best
     /// split that counted stands, with the flipped-triangle reference advanced to its last
     /// substep's start; if none counted, the first solve stands. `r` becomes the report of what
@@ -963,29 +980,40 @@ impl Sim {
         h: f64,
         r: &mut SubstepReport,
     ) -> Option<(bool, SubstepReport)> {
-        if !(r.capped || r.stalled || r.pinned) || r.recovered {
+        if r.recovered {
             return None;
         }
         let sp = &self.sheet.sp;
+        let start = self.physics.substep_start();
+        let first_turned = crate::physics::turns_a_triangle_over(sp, start, &sp.pos);
         let first_strain = crate::metrics::max_strain(sp, &sp.pos);
-        if first_strain <= HOLD_BACK_STRAIN
-            || first_strain <= crate::metrics::max_strain(sp, self.physics.substep_start())
-        {
+        let strained = (r.capped || r.stalled || r.pinned)
+            && first_strain > HOLD_BACK_STRAIN
+            && first_strain > crate::metrics::max_strain(sp, start);
+        if !first_turned && !strained {
             return None;
         }
         let sp = &mut self.sheet.sp;
         // The first solve is the best so far.
         self.split_best_pos.clone_from(&sp.pos);
         self.split_best_vel.clone_from(&sp.vel);
-        self.physics.restore_substep_start(sp);
-        self.split_start_pos.clone_from(&sp.pos);
-        self.split_start_vel.clone_from(&sp.vel);
+        if !self.split_start_saved {
+            self.physics.restore_substep_start(sp);
+            self.split_start_pos.clone_from(&sp.pos);
+            self.split_start_vel.clone_from(&sp.vel);
+        }
         self.split_start_normals.clear();
         self.split_start_normals
             .extend_from_slice(self.metrics.previous_normals());
         let mut discarded = SubstepReport::default();
         let mut best: Option<SubstepReport> = None;
-        let mut best_strain = first_strain;
+        // A first solve that turned a triangle over does not count: a split counts if it
+        // turns nothing and strains no more than it, or than HOLD_BACK_STRAIN.
+        let mut best_strain = if first_turned {
+            first_strain.max(HOLD_BACK_STRAIN) / HOLD_BACK_GAIN
+        } else {
+            first_strain
+        };
         for n in SPLIT_FACTORS {
             let sp = &mut self.sheet.sp;
             sp.pos.clone_from(&self.split_start_pos);
@@ -1189,6 +1217,7 @@ impl Sim {
             let frac = f64::from(s) / f64::from(n_sub);
             self.rig
                 .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
+            self.split_start_saved = false;
             let mut r = self.solve_substep(h);
             let mut again_stood = false;
             if let Some((kept, discarded)) = self.solve_substep_again(frac, h, &mut r) {

@@ -1,7 +1,8 @@
-//! Regression tests of what the sim does when the Newton solve stalls or a hand's jump turns a
-//! triangle over: pinning
-//! (`sim_core::physics::newton`, "Pinning") and solving the substep again from rest with the
-//! hands held back (`sim_core::sim`, "A substep solved again").
+//! Regression tests of what the sim does when the Newton solve stalls or ends at its cap, or a
+//! hand's jump turns a triangle over: pinning (`sim_core::physics::newton`, "Pinning"), solving
+//! the substep again from rest with the hands held back (`sim_core::sim`, "A substep solved
+//! again") and solving it as shorter substeps (`sim_core::sim`, "A substep solved as shorter
+//! ones").
 //!
 //! The fixtures are sheets saved just before a failing frame of the hostile stress sessions
 //! `sim-stress --seed S --sessions 1`, written by
@@ -24,15 +25,19 @@
 //!   run of 2026-12-01, with reused factorizations): the next frame's solve ends short of its
 //!   solution (at its iteration cap; seeds 14 and 20 pinned) with the sheet strained to 1.208,
 //!   1.248, 1.459, 1.006 and 1.786. Solved again as shorter substeps (`sim_core::sim`, "A
-//!   substep solved as shorter ones") they end at 0.203, 0.597, 0.191, 0.164 and 0.215. Seeds
+//!   substep solved as shorter ones") they end at 0.203, 0.597, 0.438, 0.164 and 0.239. Seeds
 //!   14 and 20 need the ladder and the advancing orientation reference: as 2 substeps they
-//!   strain to 1.014 and 0.868, and their best splits (8 and 4 substeps) turn regions of the
-//!   sheet by more than 90° over the frame, each substep by less.
+//!   stay strained, and their best splits turn regions of the sheet by more than 90° over the
+//!   frame, each substep by less;
+//! - seed 15 after frame 23 274 (the same run): the next frame turns a small triangle
+//!   (1.4 cm², beside a held vertex) over by 112° at strain 0.041, and solving it again from
+//!   rest with the hands held back turns it over too; as shorter substeps nothing turns over.
 //!
 //! Each test fails with the remedy it names removed (checked: without pinning the first test
 //! finds no pinned substep — solving again rescues that frame too — and without solving again
 //! the second fails on seed 4's strain and the third on seed 14's turned triangle; without the
-//! split the fourth fails on each of its five fixtures' strain).
+//! split the fourth fails on each of its five fixtures' strain and the fifth on the turned
+//! triangle).
 
 mod common;
 
@@ -125,4 +130,15 @@ fn a_capped_substep_that_strains_the_sheet_is_solved_again_as_shorter_ones() {
             "the fixture's first frame no longer ends capped and strained (regenerate it)"
         );
     }
+}
+
+#[test]
+fn a_turned_triangle_that_solving_again_from_rest_turns_too_is_solved_as_shorter_substeps() {
+    let first = three_sound_frames(common::restore_fixture(include_str!(
+        "fixtures/stress_seed15_frame23274.json"
+    )));
+    assert!(
+        first.split_substeps > 0 && first.held_back_substeps == 0,
+        "the fixture's first frame no longer turns a triangle over both ways (regenerate it)"
+    );
 }
