@@ -1000,8 +1000,12 @@ impl Sim {
         let sp = &self.sheet.sp;
         let start = self.physics.substep_start();
         let first_turned = crate::physics::turns_a_triangle_over(sp, start, &sp.pos);
+        let short = r.capped || r.stalled || r.pinned;
+        if !first_turned && !short {
+            return None;
+        }
         let first_strain = crate::metrics::max_strain(sp, &sp.pos);
-        let strained = (r.capped || r.stalled || r.pinned)
+        let strained = short
             && first_strain > HOLD_BACK_STRAIN
             && first_strain > crate::metrics::max_strain(sp, start);
         if !first_turned && !strained {
