@@ -1152,7 +1152,11 @@ impl Sim {
     /// normal, which can turn a triangle standing edge-on against the plane past 90° from its
     /// orientation at the end of the previous frame (seen in a stress storm, after a Newton
     /// step cut back 42 times); the vertices of a triangle the limit would turn over keep
-    /// their simulated positions, a little deeper.
+    /// their simulated positions, a little deeper. So do those of a triangle the limit would
+    /// strain beyond [`HOLD_BACK_STRAIN`], and more than the solve left it: a vertex the
+    /// solve left centimetres deep, put back at the limit, stretches its edges to the
+    /// neighbours that stayed (the long hostile run's session 19, frame 35 371, on 2026-12-01:
+    /// strain 0.443 after the solve, 1.201 after the limit).
     fn limit_penetration(&mut self) {
         let sp = &mut self.sheet.sp;
         self.pre_limit_pos.clone_from(&sp.pos);
@@ -1167,8 +1171,8 @@ impl Sim {
             let x = t.map(|i| p[i as usize]);
             (x[1] - x[0]).cross(&(x[2] - x[0]))
         };
-        // Restoring a vertex can turn over another triangle that shares it; a few passes
-        // settle it (each pass only restores, so it ends).
+        // Restoring a vertex can turn over or strain another triangle that shares it; a few
+        // passes settle it (each pass only restores, so it ends).
         for _ in 0..4 {
             let mut restored = false;
             for (k, t) in sp.triangles.iter().enumerate() {
@@ -1178,9 +1182,15 @@ impl Sim {
                     continue;
                 }
                 let prev = self.metrics.previous_normal(k);
-                if normal(&sp.pos, t).dot(&prev) < 0.0
-                    && normal(&self.pre_limit_pos, t).dot(&prev) >= 0.0
-                {
+                let turned = normal(&sp.pos, t).dot(&prev) < 0.0
+                    && normal(&self.pre_limit_pos, t).dot(&prev) >= 0.0;
+                let strained = || {
+                    let at = |p: &[V3]| t.map(|i| p[i as usize]);
+                    let strain = crate::metrics::triangle_strain(sp, k, at(&sp.pos));
+                    strain > HOLD_BACK_STRAIN
+                        && strain > crate::metrics::triangle_strain(sp, k, at(&self.pre_limit_pos))
+                };
+                if turned || strained() {
                     for &i in t {
                         sp.pos[i as usize] = self.pre_limit_pos[i as usize];
                     }
