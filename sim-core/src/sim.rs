@@ -117,9 +117,10 @@
 //! solving again from rest turned too. From the states saved just before
 //! (`tests/stalled_substeps.rs`) the split ends their frames at 0.203, 0.597, 0.438, 0.164
 //! and 0.239, and turns nothing over in seed 15's; 20 or 40 Newton iterations instead of 10
-//! left seed 5's at 1.201. No seed scene
-//! ever strains beyond [`HOLD_BACK_STRAIN`], so none plays differently (`scenario_probe`
-//! hashes).
+//! left seed 5's at 1.201. With this and the depth limit's strain guard
+//! (`limit_penetration`) all 20 sessions pass (docs/benchmarks.md, "Mended, 2026-12-01").
+//! No seed scene ever strains beyond [`HOLD_BACK_STRAIN`], so none plays differently
+//! (`scenario_probe` hashes).
 //!
 //! ## An undone frame relaxed
 //!
