@@ -222,24 +222,30 @@ fn a_sheet_built_on_another_thread_steps_without_allocating_after_the_warm_up() 
     }
 }
 
-/// The Newton solve's pinning (`physics/newton.rs`, "Pinning") allocates nothing: the sheet of
-/// `tests/fixtures/stress_seed2_frame6452.json` (see `tests/stalled_substeps.rs`) pins vertices
-/// in its first frame (and the substep is then solved again as shorter ones, which pin too). A
-/// first copy of it steps that frame to warm the thread up; a second copy's same frame is
-/// counted.
-#[test]
-fn a_pinning_solve_does_not_allocate() {
-    let fixture = include_str!("fixtures/stress_seed2_frame6452.json");
+/// Allocations in the first frame of a restored fixture, after a first copy of it stepped that
+/// frame to warm the thread up, with that frame's statistics; the frame must not change the
+/// mesh (a mesh change allocates and is not counted).
+fn allocations_in_first_frame(fixture: &str) -> (u64, sim_core::sim::FrameStats) {
     let mut out = FrameOutput::default();
     common::restore_fixture(fixture).step(&mut out);
     let mut sim = common::restore_fixture(fixture);
     let mut refined = 0;
     let n = count(|| step(&mut sim, &mut out, &mut refined));
-    let pinned = out.stats.pinned_substeps;
     assert_eq!(
         refined, 0,
         "the counted frame changed the mesh and was not counted"
     );
+    (n, out.stats)
+}
+
+/// The Newton solve's pinning (`physics/newton.rs`, "Pinning") allocates nothing: the sheet of
+/// `tests/fixtures/stress_seed2_frame6452.json` (see `tests/stalled_substeps.rs`) pins vertices
+/// in its first frame (and the substep is then solved again as shorter ones, which pin too).
+#[test]
+fn a_pinning_solve_does_not_allocate() {
+    let (n, stats) =
+        allocations_in_first_frame(include_str!("fixtures/stress_seed2_frame6452.json"));
+    let pinned = stats.pinned_substeps;
     assert!(
         pinned > 0,
         "the fixture no longer makes the solve pin (regenerate it)"
@@ -249,23 +255,13 @@ fn a_pinning_solve_does_not_allocate() {
 
 /// A stalled substep solved again from rest with the hands held back (`sim.rs`, "A substep
 /// solved again") allocates nothing: the sheet of `tests/fixtures/stress_seed4_frame33201.json`
-/// holds back in its first frame. A first copy of it steps that frame to warm the thread up;
-/// a second copy's same frame is counted.
+/// holds back in its first frame.
 #[test]
 fn a_substep_solved_again_does_not_allocate() {
-    let fixture = include_str!("fixtures/stress_seed4_frame33201.json");
-    let mut out = FrameOutput::default();
-    common::restore_fixture(fixture).step(&mut out);
-    let mut sim = common::restore_fixture(fixture);
-    let mut refined = 0;
-    let n = count(|| step(&mut sim, &mut out, &mut refined));
-    let held_back = out.stats.held_back_substeps;
-    assert_eq!(
-        refined, 0,
-        "the counted frame changed the mesh and was not counted"
-    );
+    let (n, stats) =
+        allocations_in_first_frame(include_str!("fixtures/stress_seed4_frame33201.json"));
     assert!(
-        held_back > 0,
+        stats.held_back_substeps > 0,
         "the fixture no longer holds back in its first frame (regenerate it)"
     );
     assert_eq!(
@@ -276,22 +272,13 @@ fn a_substep_solved_again_does_not_allocate() {
 
 /// A substep solved again as shorter ones (`sim.rs`, "A substep solved as shorter ones")
 /// allocates nothing: the sheet of `tests/fixtures/stress_seed5_frame39736.json` splits a
-/// substep in its first frame. A first copy of it steps that frame to warm the thread up; a
-/// second copy's same frame is counted.
+/// substep in its first frame.
 #[test]
 fn a_substep_solved_as_shorter_ones_does_not_allocate() {
-    let fixture = include_str!("fixtures/stress_seed5_frame39736.json");
-    let mut out = FrameOutput::default();
-    common::restore_fixture(fixture).step(&mut out);
-    let mut sim = common::restore_fixture(fixture);
-    let mut refined = 0;
-    let n = count(|| step(&mut sim, &mut out, &mut refined));
-    assert_eq!(
-        refined, 0,
-        "the counted frame changed the mesh and was not counted"
-    );
+    let (n, stats) =
+        allocations_in_first_frame(include_str!("fixtures/stress_seed5_frame39736.json"));
     assert!(
-        out.stats.split_substeps > 0,
+        stats.split_substeps > 0,
         "the fixture no longer splits a substep in its first frame (regenerate it)"
     );
     assert_eq!(n, 0, "{n} allocations in a frame that split a substep");

@@ -42,12 +42,12 @@
 mod common;
 
 use sim_core::control::{Command, GrabSlot};
-use sim_core::sim::{FrameOutput, Sim};
+use sim_core::sim::{FrameOutput, FrameStats, Sim};
 use sim_core::stress::MAX_STRAIN;
 
 /// Steps `sim` three frames; every frame keeps the stress invariants. Returns the first
 /// frame's statistics.
-fn three_sound_frames(mut sim: Sim) -> sim_core::sim::FrameStats {
+fn three_sound_frames(mut sim: Sim) -> FrameStats {
     let mut out = FrameOutput::default();
     let mut first = None;
     for frame in 1..=3 {
@@ -77,28 +77,34 @@ fn three_sound_frames(mut sim: Sim) -> sim_core::sim::FrameStats {
     first.expect("three frames")
 }
 
+/// Restores each fixture and steps it three frames ([`three_sound_frames`]); `holds` must be
+/// true of each one's first frame, else the test fails with `why`.
+fn each_first_frame(fixtures: &[&str], holds: impl Fn(&FrameStats) -> bool, why: &str) {
+    for json in fixtures {
+        let first = three_sound_frames(common::restore_fixture(json));
+        assert!(holds(&first), "{why}");
+    }
+}
+
 #[test]
 fn a_stalled_solve_pins_the_turning_triangle_and_the_sheet_follows_the_hands() {
-    let sim = common::restore_fixture(include_str!("fixtures/stress_seed2_frame6452.json"));
-    let first = three_sound_frames(sim);
-    assert!(
-        first.pinned_substeps > 0,
-        "the fixture no longer makes the solve pin (regenerate it)"
+    each_first_frame(
+        &[include_str!("fixtures/stress_seed2_frame6452.json")],
+        |first| first.pinned_substeps > 0,
+        "the fixture no longer makes the solve pin (regenerate it)",
     );
 }
 
 #[test]
 fn a_stalled_substep_that_strains_the_sheet_is_solved_again_from_rest() {
-    for json in [
-        include_str!("fixtures/stress_seed4_frame33201.json"),
-        include_str!("fixtures/stress_seed11_frame24680.json"),
-    ] {
-        let first = three_sound_frames(common::restore_fixture(json));
-        assert!(
-            first.held_back_substeps > 0,
-            "the fixture no longer stalls into strain (regenerate it)"
-        );
-    }
+    each_first_frame(
+        &[
+            include_str!("fixtures/stress_seed4_frame33201.json"),
+            include_str!("fixtures/stress_seed11_frame24680.json"),
+        ],
+        |first| first.held_back_substeps > 0,
+        "the fixture no longer stalls into strain (regenerate it)",
+    );
 }
 
 #[test]
@@ -117,28 +123,24 @@ fn a_substep_that_turns_a_triangle_over_is_solved_again_with_the_hands_held_back
 
 #[test]
 fn a_capped_substep_that_strains_the_sheet_is_solved_again_as_shorter_ones() {
-    for json in [
-        include_str!("fixtures/stress_seed5_frame39736.json"),
-        include_str!("fixtures/stress_seed8_frame12310.json"),
-        include_str!("fixtures/stress_seed14_frame29766.json"),
-        include_str!("fixtures/stress_seed19_frame10611.json"),
-        include_str!("fixtures/stress_seed20_frame27780.json"),
-    ] {
-        let first = three_sound_frames(common::restore_fixture(json));
-        assert!(
-            first.split_substeps > 0,
-            "the fixture's first frame no longer ends capped and strained (regenerate it)"
-        );
-    }
+    each_first_frame(
+        &[
+            include_str!("fixtures/stress_seed5_frame39736.json"),
+            include_str!("fixtures/stress_seed8_frame12310.json"),
+            include_str!("fixtures/stress_seed14_frame29766.json"),
+            include_str!("fixtures/stress_seed19_frame10611.json"),
+            include_str!("fixtures/stress_seed20_frame27780.json"),
+        ],
+        |first| first.split_substeps > 0,
+        "the fixture's first frame no longer ends capped and strained (regenerate it)",
+    );
 }
 
 #[test]
 fn a_turned_triangle_that_solving_again_from_rest_turns_too_is_solved_as_shorter_substeps() {
-    let first = three_sound_frames(common::restore_fixture(include_str!(
-        "fixtures/stress_seed15_frame23274.json"
-    )));
-    assert!(
-        first.split_substeps > 0 && first.held_back_substeps == 0,
-        "the fixture's first frame no longer turns a triangle over both ways (regenerate it)"
+    each_first_frame(
+        &[include_str!("fixtures/stress_seed15_frame23274.json")],
+        |first| first.split_substeps > 0 && first.held_back_substeps == 0,
+        "the fixture's first frame no longer turns a triangle over both ways (regenerate it)",
     );
 }
