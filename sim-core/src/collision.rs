@@ -192,7 +192,14 @@ impl Obstacles {
                     p.normal = n;
                     p.target_offset_m = target;
                 }
-                None => p.active = false,
+                None => {
+                    // An absent plane has no place: it keeps none (so a saved and restored
+                    // room is the same room) and does not ease.
+                    p.active = false;
+                    p.offset_m = 0.0;
+                    p.target_offset_m = 0.0;
+                    p.speed_m_s = 0.0;
+                }
             }
         }
     }
@@ -237,11 +244,11 @@ impl Obstacles {
         moved
     }
 
-    /// Moves each effective plane towards its target by at most the ease speed × `dt_s`.
+    /// Moves each present plane towards its target by at most the ease speed × `dt_s`.
     /// Returns true if any plane moved.
     pub fn ease(&mut self, dt_s: f64) -> bool {
         let mut moved = false;
-        for p in &mut self.planes {
+        for p in self.planes.iter_mut().filter(|p| p.active) {
             let d = p.target_offset_m - p.offset_m;
             let max = OBSTACLE_EASE_SPEED_M_S * dt_s;
             let step = d.clamp(-max, max);
@@ -355,6 +362,30 @@ mod tests {
         }
         assert!((o.planes[2].distance(&V3::new(0.0, 0.02, 0.0))).abs() < 1e-12);
         assert!(frames > 10, "eased over several frames");
+    }
+
+    /// A wall switched off while it eases in is gone: it moves no more (it would keep the
+    /// sheet awake and the pass-through guard off) and is the same as in a room built without
+    /// it (so a sheet saved and restored there continues identically).
+    #[test]
+    fn a_plane_switched_off_while_easing_stops_and_keeps_no_place() {
+        let sheet = [V3::new(0.0, -0.15, 0.75), V3::new(0.0, 0.15, 0.75)];
+        let room = RoomConfig {
+            wall: true,
+            wall_dist_cm: 2.0,
+            ..RoomConfig::default()
+        };
+        let mut o = Obstacles::new(&RoomConfig::default());
+        o.set_room(&room, &sheet);
+        assert!(o.ease(0.005) && o.is_moving(), "the wall eases in");
+        let off = RoomConfig {
+            wall: false,
+            ..room
+        };
+        o.set_room(&off, &sheet);
+        assert!(!o.ease(0.005), "an absent wall does not move");
+        assert!(!o.is_moving());
+        assert_eq!(o.planes, Obstacles::new(&off).planes);
     }
 
     #[test]
