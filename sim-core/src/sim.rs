@@ -1503,6 +1503,7 @@ impl Sim {
             quiet_frames: self.quiet_frames,
             geometry: Some(self.geometry.save()),
             contact_boosts: self.physics.contact_boosts().to_vec(),
+            hand_defs: self.rig.hand_defs_state(),
         }
     }
 
@@ -1571,6 +1572,9 @@ impl Sim {
         let room = sim.cfg.room;
         sim.obstacles.set_room(&room, &sim.sheet.sp.pos);
         sim.rig.state = saved.rig.clone();
+        sim.rig
+            .restore_hand_defs(&saved.hand_defs)
+            .map_err(RestoreError::Invalid)?;
         sim.rig
             .restore_ownership(
                 &saved.rig_ownership,
@@ -1795,6 +1799,50 @@ mod tests {
             sim.contacts()
                 .iter()
                 .all(|c| !c.in_contact || c.obstacle == crate::sound_input::Obstacle::Floor)
+        );
+    }
+
+    /// A vertex of a hand moved in the pattern (as a singular point placed at it moves it)
+    /// before the sheet is saved: the restored rig holds the sheet where the saved one did, so
+    /// a grab after reopening does what it would have done (a rig worked out afresh from the
+    /// moved pattern holds that vertex elsewhere and does not).
+    #[test]
+    fn a_saved_sheet_keeps_its_hands_after_a_pattern_move() {
+        let mut sim = Sim::new(SimConfig::default());
+        let mut out = FrameOutput::default();
+        sim.step(&mut out);
+        let d = *sim.rig.hand_def(3);
+        let v = (d.num_mains as usize..d.num_vertices as usize)
+            .map(|j| d.vertices[j])
+            .find(|&v| !sim.sheet.sp.topo.vertex_on_boundary[v as usize])
+            .expect("an interior vertex in the right hand");
+        let to = sim.sheet.sp.pattern[v as usize] + V2::new(-0.004, 0.002);
+        assert_ne!(sim.sheet.sp.move_pattern_vertex(v, to), V2::zeros());
+        let saved = sim.save();
+        let mut fresh_hands = saved.clone();
+        fresh_hands.hand_defs.clear();
+        let mut back = Sim::restore(SimConfig::default(), &saved).unwrap();
+        let mut fresh = Sim::restore(SimConfig::default(), &fresh_hands).unwrap();
+        let grab = Command::Grab {
+            slot: GrabSlot::Right,
+            grip: 1.0,
+        };
+        let lift = Command::Gesture {
+            param: GestureParam::Lift,
+            value: 1.0,
+        };
+        for s in [&mut sim, &mut back, &mut fresh] {
+            s.apply(grab);
+            s.apply(lift);
+            for _ in 0..20 {
+                s.step(&mut out);
+            }
+        }
+        assert_eq!(back.save(), sim.save());
+        assert_ne!(
+            fresh.save().positions_m,
+            sim.save().positions_m,
+            "hands worked out afresh hold the moved vertex elsewhere"
         );
     }
 

@@ -126,6 +126,19 @@ fn corrupted_sheets_are_rejected_with_clear_errors() {
         ("quaternion", |s| s.rig.hands[0].pose.rot = [0.0; 4]),
         ("ownership", |s| s.rig_ownership.push((7, 3, 42))),
         ("obstacle", |s| s.obstacle_offsets_m[1] = f64::NAN),
+        ("hand vertex", |s| s.hand_defs[0].vertices[0] = 1_000_000),
+        ("hand count", |s| {
+            s.hand_defs.pop();
+        }),
+        ("hand offset", |s| {
+            s.hand_defs[2].home_offsets_m[0][0] = f64::NAN
+        }),
+        ("hand far off", |s| s.hand_defs[2].home_ref_m[1] = 1e9),
+        ("hand mains", |s| s.hand_defs[1].num_mains = 0),
+        ("hand duplicate", |s| {
+            let v = s.hand_defs[3].vertices[0];
+            s.hand_defs[3].vertices[1] = v;
+        }),
         ("no triangles", |s| s.triangles.clear()),
         ("frame", |s| s.frame = u64::MAX),
         ("contact boost vertex", |s| {

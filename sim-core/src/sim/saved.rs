@@ -5,7 +5,11 @@
 //! form holds the pattern and topology (the geometry layer will change them), positions,
 //! velocities, per-edge rest angles and damage, the singular vertices, the RNG state, the frame
 //! counter, the gesture rig (commanded and rate-limited gestures, grips, handle poses, crumple
-//! jitter, shake phase), the effective obstacle planes and the sleep state. Restoring validates
+//! jitter, shake phase, and where each hand holds the sheet: [`crate::gesture_rig::SavedHandDef`]),
+//! the effective obstacle planes and the sleep state. The room, frame rate and solver settings
+//! are configuration, not saved state: a sheet continues bit-identically when it is restored
+//! with the configuration it was saved under (the stress runs check this, [`crate::stress`]).
+//! Restoring validates
 //! every field and answers with a [`RestoreError`] — never a panic — for anything
 //! inconsistent: wrong version, counts, out-of-range indices, non-finite values, positions
 //! outside a sane room box, invalid meshes.
@@ -86,6 +90,10 @@ pub struct SavedSheet {
     /// ([`crate::physics::sheet_contact`]; absent in older saves: none).
     #[serde(default)]
     pub contact_boosts: Vec<crate::physics::sheet_contact::Boost>,
+    /// Where each hand of the rig holds the sheet ([`crate::gesture_rig::SavedHandDef`];
+    /// absent in older saves: worked out afresh from the sheet, as then).
+    #[serde(default)]
+    pub hand_defs: Vec<crate::gesture_rig::SavedHandDef>,
 }
 
 /// Why a saved sheet could not be restored.
