@@ -1,8 +1,10 @@
-//! Restores a saved sheet (JSON, as `stress_fixture` writes it) and steps it a few frames,
+//! Restores a saved sheet (JSON, as `stress_fixture` writes it, in its room; a bare saved sheet
+//! in the default room) and steps it a few frames,
 //! printing each frame's largest strain, halvings, pinned, held-back and split substeps.
 //!
 //! `cargo run --release -p sim-core --example fixture_step -- STATE.json [FRAMES]`
-use sim_core::sim::{FrameOutput, SavedSheet, Sim, SimConfig};
+use sim_core::sim::{FrameOutput, SavedSheet, SimConfig};
+use sim_core::stress::StressFixture;
 
 fn main() {
     let path = std::env::args().nth(1).expect("STATE.json");
@@ -10,10 +12,13 @@ fn main() {
         .nth(2)
         .map_or(3, |s| s.parse().expect("frames"));
     let json = std::fs::read_to_string(&path).expect("read");
-    let saved: SavedSheet = serde_json::from_str(&json).expect("parse");
+    let fixture = serde_json::from_str::<StressFixture>(&json).unwrap_or_else(|_| StressFixture {
+        room: SimConfig::default().room,
+        sheet: serde_json::from_str::<SavedSheet>(&json).expect("parse"),
+    });
     let mut cfg = SimConfig::default();
     cfg.geometry.enabled = std::env::var("NOGEOM").is_err();
-    let mut sim = Sim::restore(cfg, &saved).expect("restore");
+    let mut sim = fixture.restore(cfg).expect("restore");
     let mut out = FrameOutput::default();
     for k in 1..=frames {
         sim.step(&mut out);

@@ -1,13 +1,14 @@
-//! Saves the sheet of a hostile stress session at a given frame, as JSON (regression fixtures:
-//! `sim-core/tests/fixtures/`), then steps the restored sheet a few frames and prints each
+//! Saves the sheet of a hostile stress session at a given frame with the session's room, as JSON
+//! (regression fixtures: `sim-core/tests/fixtures/`, [`sim_core::stress::StressFixture`]), then
+//! steps the restored sheet a few frames and prints each
 //! frame's largest strain, line-search halvings and pinned substeps.
 //!
 //! `cargo run --release -p sim-core --example stress_fixture -- SEED FRAME OUT.json` saves the
 //! state after frame FRAME of `sim-stress --seed SEED --sessions 1`; `REUSE=0` steps the restored
 //! sheet without reused factorizations, `ITERS=N` with N Newton iterations per substep,
 //! `SUBSTEPS=N` with N substeps per frame.
-use sim_core::sim::{FrameOutput, Sim, SimConfig};
-use sim_core::stress::{StressConfig, run_with};
+use sim_core::sim::{FrameOutput, SimConfig};
+use sim_core::stress::{StressConfig, StressFixture, run_with};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -26,7 +27,7 @@ fn main() {
     let mut saved = None;
     let report = run_with(&cfg, |f, sim| {
         if f == frame {
-            saved = Some(sim.save());
+            saved = Some(StressFixture::of(sim));
         }
     });
     let Some(saved) = saved else {
@@ -48,7 +49,7 @@ fn main() {
     if let Some(n) = std::env::var("SUBSTEPS").ok().and_then(|v| v.parse().ok()) {
         replay.solver.substeps = n;
     }
-    let mut sim = Sim::restore(replay, &saved).expect("restore");
+    let mut sim = saved.restore(replay).expect("restore");
     let mut out = FrameOutput::default();
     for k in 1..=3 {
         sim.step(&mut out);

@@ -21,6 +21,7 @@ fn main() {
         sim,
         change_size: true,
         validate_every: 0,
+        restore_check_every: 0,
         trace: false,
     };
     let r = run_with(&cfg, |f, sim| {

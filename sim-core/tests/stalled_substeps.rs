@@ -31,13 +31,19 @@
 //!   frame, each substep by less;
 //! - seed 15 after frame 23 274 (the same run): the next frame turns a small triangle
 //!   (1.4 cm², beside a held vertex) over by 112° at strain 0.041, and solving it again from
-//!   rest with the hands held back turns it over too; as shorter substeps nothing turns over.
+//!   rest with the hands held back turns it over too; as shorter substeps nothing turns over;
+//! - seed 20 after frame 31 628 (the long run of 2026-12-01, evening), saved with the session's
+//!   room: a slipped hand's offset turns a triangle over in every split unless it is faded out
+//!   over the split;
+//! - seed 19 after frame 35 370, saved with its room from the stream with the depth limit's
+//!   strain guard off: the next frame's depth limit would stretch a triangle to 1.201.
 //!
 //! Each test fails with the remedy it names removed (checked: without pinning the first test
 //! finds no pinned substep — solving again rescues that frame too — and without solving again
 //! the second fails on seed 4's strain and the third on seed 14's turned triangle; without the
 //! split the fourth fails on each of its five fixtures' strain and the fifth on the turned
-//! triangle).
+//! triangle; without the faded second ladder the sixth fails on the turned triangle, and
+//! without the depth limit's strain guard the seventh on the strain bound).
 
 mod common;
 
@@ -142,5 +148,34 @@ fn a_turned_triangle_that_solving_again_from_rest_turns_too_is_solved_as_shorter
         &[include_str!("fixtures/stress_seed15_frame23274.json")],
         |first| first.split_substeps > 0 && first.held_back_substeps == 0,
         "the fixture's first frame no longer turns a triangle over both ways (regenerate it)",
+    );
+}
+
+/// Seed 20 after frame 31 628, saved with the session's room (the first fixture that keeps it,
+/// [`sim_core::stress::StressFixture`]; the sheet restored in the default room does not
+/// reproduce the frame): a hand that slipped holds its vertices away from where the substep
+/// starts them, and each split that moves them there in its first substep turns a triangle
+/// over; faded out over the split (the second ladder) nothing turns over (checked: without the
+/// second ladder this test fails on the turned triangle).
+#[test]
+fn a_slipped_hands_offset_is_faded_out_over_the_shorter_substeps() {
+    each_first_frame(
+        &[include_str!("fixtures/stress_seed20_frame31628.json")],
+        |first| first.split_substeps > 0,
+        "the fixture's first frame is no longer split (regenerate it)",
+    );
+}
+
+/// Seed 19 after frame 35 370, saved with the session's room from a stream run with the depth
+/// limit's strain guard off (`Sim::limit_penetration`; on, the stream does not reach this
+/// state): the next frame's solve ends at strain 0.443, and putting a vertex deep in the table
+/// back at the depth limit stretched a triangle to 1.201. The guard leaves that triangle where
+/// the solve put it (checked: without the guard this test fails on the strain bound).
+#[test]
+fn the_depth_limit_leaves_a_triangle_it_would_strain_where_the_solve_put_it() {
+    each_first_frame(
+        &[include_str!("fixtures/stress_seed19_frame35370.json")],
+        |first| first.max_strain <= 0.5,
+        "the fixture's first frame strains the sheet beyond 0.5 (regenerate it)",
     );
 }

@@ -2,8 +2,8 @@
 //! release storms, resets, size/material/room switches) on four sessions in parallel (and a fifth
 //! with strip cutting on, so cuts and coarsening meet the same stream), checking
 //! after every frame that nothing is non-finite, no triangle turned over, no substep had to be
-//! recovered, speeds and strains stay bounded, and that the mesh stays valid
-//! ([`sim_core::stress`]). The 10⁶-frame run is the `sim-stress` binary.
+//! recovered, speeds and strains stay bounded, that the mesh stays valid, and every 250 frames
+//! that the sheet saved and restored continues bit-identically ([`sim_core::stress`]). The 10⁶-frame run is the `sim-stress` binary.
 //!
 //! To fit plain `cargo test` (opt-level 1) in about a minute on two cores, the sessions use a
 //! coarser mesh than the default (spacing L_paper/5, ~40 triangles on A4); the binary runs the
@@ -29,6 +29,7 @@ fn session_with(seed: u64, frames: u64, cut_strips: bool) -> sim_core::stress::S
         sim,
         change_size: true,
         validate_every: 500,
+        restore_check_every: 250,
         trace: false,
     };
     // Geometry-layer invariants after every frame: the interior singular count never

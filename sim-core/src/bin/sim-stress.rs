@@ -3,18 +3,19 @@
 //! ```text
 //! cargo run --release -p sim-core --bin sim-stress -- [--frames N] [--seed S] [--sessions K]
 //!     [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips]
-//!     [--contact-coupling N] [--no-reuse] [--trace]
+//!     [--contact-coupling N] [--no-reuse] [--restore-check-every N] [--trace]
 //! ```
 //!
 //! `--cut-strips` turns on the opt-in strip cutting (`GeometryConfig::cut_strips`);
 //! `--no-reuse` turns off the reused factorizations (`SolverConfig::reuse_factor`);
 //! `--contact-coupling N` sets `SolverConfig::contact_coupling_pairs` (0: the contact pairs'
-//! diagonal Hessian blocks only).
+//! diagonal Hessian blocks only); `--restore-check-every N` saves and restores the sheet every
+//! N frames (default 1000, 0: never) and checks that the restored sheet continues bit-identically.
 //!
 //! The frames are split into `K` sessions with seeds `S, S+1, …` (each a fresh sheet, sizes
 //! and materials changing within a session). Exits with status 1 on the first violated
 //! invariant (non-finite state, flipped triangle, recovered substep, speed or strain out of
-//! bounds, invalid mesh).
+//! bounds, invalid mesh, a restored sheet that does not continue bit-identically).
 
 use std::time::Instant;
 
@@ -28,6 +29,7 @@ fn main() {
     let mut sessions: u64 = 20;
     let mut solver = SolverKind::Newton;
     let mut trace = false;
+    let mut restore_check_every: u64 = 1000;
     let mut geometry = true;
     let mut cut_strips = false;
     let mut reuse = true;
@@ -51,6 +53,11 @@ fn main() {
                 }
             }
             "--trace" => trace = true,
+            "--restore-check-every" => {
+                restore_check_every = val()
+                    .parse()
+                    .unwrap_or_else(|_| usage("bad --restore-check-every"));
+            }
             "--no-geometry" => geometry = false,
             "--cut-strips" => cut_strips = true,
             "--no-reuse" => reuse = false,
@@ -96,6 +103,7 @@ fn main() {
             sim,
             change_size: true,
             validate_every: 1000,
+            restore_check_every,
             trace,
         };
         let r = run(&cfg);
@@ -132,7 +140,7 @@ fn main() {
     }
     let secs = t0.elapsed().as_secs_f64();
     println!(
-        "OK: {total} frames ({cmds} commands, {asleep} asleep) in {secs:.1} s ({:.3} ms/frame); max speed {vmax:.2} m/s, max KE {kemax:.2e} J, max strain {strain:.3}; no NaN, no flipped triangle, no recovery, mesh valid, singular counts never decreased, c_mean bounded",
+        "OK: {total} frames ({cmds} commands, {asleep} asleep) in {secs:.1} s ({:.3} ms/frame); max speed {vmax:.2} m/s, max KE {kemax:.2e} J, max strain {strain:.3}; no NaN, no flipped triangle, no recovery, mesh valid, singular counts never decreased, c_mean bounded, saved sheets continued bit-identically",
         secs * 1e3 / total.max(1) as f64
     );
 }
@@ -142,7 +150,7 @@ fn usage(msg: &str) -> ! {
         eprintln!("sim-stress: {msg}");
     }
     eprintln!(
-        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--contact-coupling N] [--no-reuse] [--trace]"
+        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--contact-coupling N] [--no-reuse] [--restore-check-every N] [--trace]"
     );
     std::process::exit(2);
 }
