@@ -1082,36 +1082,66 @@ impl GestureRig {
     }
 
     /// Restores [`Self::ownership_state`] after `state` was restored. Returns an error message
-    /// if an entry does not fit the current hands and mesh.
+    /// if an entry does not fit the current hands and mesh; nothing is restored then.
+    ///
+    /// `lenient` (a sheet saved before the hands were saved, [`Self::restore_hand_defs`]):
+    /// the hands were worked out afresh and may name another vertex where the saved hand held
+    /// one (a vertex moved in the pattern since the hands were built); such an entry is let go
+    /// instead (the hand's hold on it cleared, ownership worked out again next frame), so the
+    /// sheet still opens. Entries naming no vertex, hand or hand slot are errors either way.
     pub fn restore_ownership(
         &mut self,
         ownership: &[(u32, u8, u8)],
         suppressed: [bool; NUM_HANDS],
         dirty: bool,
+        lenient: bool,
     ) -> Result<(), String> {
         if ownership.len() > NUM_HANDS * MAX_HAND_VERTICES {
             return Err("too many held vertices".into());
         }
-        self.ownership.clear();
+        let in_range = |&(v, k, j): &(u32, u8, u8)| {
+            (v as usize) < self.claim.len()
+                && (k as usize) < NUM_HANDS
+                && (j as usize) < MAX_HAND_VERTICES
+        };
+        if let Some(&(v, k, j)) = ownership.iter().find(|e| !in_range(e)) {
+            return Err(format!(
+                "held vertex entry ({v}, {k}, {j}) does not fit the sheet"
+            ));
+        }
         for c in &mut self.claim {
             *c = u8::MAX;
         }
+        let mut let_go = [0u16; NUM_HANDS];
         for &(v, k, j) in ownership {
-            let ok = (v as usize) < self.claim.len()
-                && (k as usize) < NUM_HANDS
-                && (j as usize) < self.info[k as usize].def.num_vertices as usize
-                && self.info[k as usize].def.vertices[j as usize] == v
+            let def = &self.info[k as usize].def;
+            let fits = (j as usize) < def.num_vertices as usize
+                && def.vertices[j as usize] == v
                 && self.claim[v as usize] == u8::MAX;
-            if !ok {
+            if fits {
+                self.claim[v as usize] = k;
+            } else if lenient {
+                let_go[k as usize] |= 1 << j;
+            } else {
+                for c in &mut self.claim {
+                    *c = u8::MAX;
+                }
                 return Err(format!(
                     "held vertex entry ({v}, {k}, {j}) does not fit the sheet"
                 ));
             }
-            self.claim[v as usize] = k;
-            self.ownership.push((v, k, j));
+        }
+        self.ownership.clear();
+        for &(v, k, j) in ownership {
+            if let_go[k as usize] & (1 << j) == 0 {
+                self.ownership.push((v, k, j));
+            }
+        }
+        for (h, bits) in self.state.hands.iter_mut().zip(let_go) {
+            h.mask &= !bits;
         }
         self.suppressed = suppressed;
-        self.ownership_dirty = dirty;
+        self.ownership_dirty = dirty || let_go.iter().any(|&b| b != 0);
         Ok(())
     }
 

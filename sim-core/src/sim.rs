@@ -1580,6 +1580,8 @@ impl Sim {
                 &saved.rig_ownership,
                 saved.rig_suppressed,
                 saved.rig_ownership_pending,
+                // Saved before the hands were: they were worked out afresh.
+                saved.hand_defs.is_empty(),
             )
             .map_err(RestoreError::Invalid)?;
         sim.physics

@@ -184,6 +184,51 @@ fn corrupted_sheets_are_rejected_with_clear_errors() {
     assert_eq!(Sim::restore(cfg, &boosted).unwrap().save(), boosted);
 }
 
+/// A sheet saved before the hands were saved (no `hand_defs`) whose held vertex the hands
+/// worked out afresh no longer name (a vertex moved in the pattern since the saved hands were
+/// built) opens with that vertex let go, and runs; the same entry in a sheet that saved its
+/// hands is corrupt.
+#[test]
+fn an_older_sheet_whose_held_vertex_the_fresh_hands_do_not_name_opens_with_it_let_go() {
+    let (sim, _, cfg) = mid_scenario("s1_slide_release_pinch", 200);
+    let good = sim.save();
+    let (i, &(v, k, j)) = good
+        .rig_ownership
+        .iter()
+        .enumerate()
+        .find(|(_, e)| e.2 > 0)
+        .expect("a held neighbour vertex");
+    // Another vertex in the entry's place, as a hand built on a moved pattern would name it.
+    let other = (0..good.positions_m.len() as u32)
+        .find(|&u| good.rig_ownership.iter().all(|&(w, _, _)| w != u))
+        .unwrap();
+    let mut bad = good.clone();
+    bad.rig_ownership[i] = (other, k, j);
+    assert!(Sim::restore(cfg, &bad).is_err());
+    bad.hand_defs.clear();
+    let mut back = Sim::restore(cfg, &bad).expect("an older sheet opens");
+    let saved = back.save();
+    assert_eq!(saved.rig_ownership.len(), good.rig_ownership.len() - 1);
+    assert!(saved.rig_ownership.iter().all(|&(w, _, _)| w != other));
+    assert_eq!(
+        saved.rig.hands[k as usize].mask & (1 << j),
+        0,
+        "let go of ({v}, {k}, {j})"
+    );
+    let mut out = FrameOutput::default();
+    for _ in 0..20 {
+        back.step(&mut out);
+        assert_eq!(out.stats.num_flipped, 0);
+    }
+    assert!(
+        back.sheet()
+            .sp
+            .pos
+            .iter()
+            .all(|p| p.iter().all(|c| c.is_finite()))
+    );
+}
+
 #[test]
 fn random_json_mutations_never_panic() {
     let (sim, _, _) = mid_scenario("c5_full_crumple", 250);

@@ -248,7 +248,7 @@ impl Sim {
         for o in &mut ownership {
             o.0 = map(o.0)?;
         }
-        rig.restore_ownership(&ownership, suppressed, pending)?;
+        rig.restore_ownership(&ownership, suppressed, pending, false)?;
         // Old vertices keep their index (or move down with the removed one's): the contact
         // boosts follow them; a boost at a removed vertex goes.
         let mut physics = Physics::new(&sheet.sp);
