@@ -340,6 +340,11 @@ impl Engine {
             // it, and its gesture state (which may come from MIDI CCs) is kept: the latest change
             // before the save wins, as it did while playing.
             self.store_generation = generation;
+            // The loaded room first: a sheet is restored in the room of the sim's configuration
+            // (`Sim::restore`), and it continues as saved only in the room it was saved in.
+            if p.room != self.last.room {
+                self.command(at, Command::Room(p.room));
+            }
             self.send(at, WorkerMsgKind::RestoreSheet);
         } else {
             if p.size != self.last.size {
@@ -352,7 +357,7 @@ impl Engine {
                 self.command(at, Command::Seed(p.seed));
             }
         }
-        if p.room != self.last.room {
+        if !restored && p.room != self.last.room {
             self.command(at, Command::Room(p.room));
         }
         for g in GestureParam::ALL {

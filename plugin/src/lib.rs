@@ -209,7 +209,12 @@ impl Plugin for Papier {
             (sim, 0, values)
         });
         if generation != store.generation() {
-            // A project was loaded: its sheet goes with its parameters.
+            // A project was loaded: its sheet goes with its parameters, in its room (a sheet is
+            // restored in the room of the sim's configuration, and a parked sim has the room
+            // it was parked with).
+            if sim.config().room != values.room {
+                sim.apply(sim_core::control::Command::Room(values.room));
+            }
             generation = engine::worker::restore_from_store(&mut sim, &store, generation);
             reflected = values;
         }
