@@ -1082,7 +1082,7 @@ impl GestureRig {
     }
 
     /// Restores [`Self::ownership_state`] after `state` was restored. Returns an error message
-    /// if an entry does not fit the current hands and mesh; nothing is restored then.
+    /// if an entry does not fit the current hands and mesh; no vertex is held then.
     ///
     /// `lenient` (a sheet saved before the hands were saved, [`Self::restore_hand_defs`]):
     /// the hands were worked out afresh and may name another vertex where the saved hand held
@@ -1126,6 +1126,7 @@ impl GestureRig {
                 for c in &mut self.claim {
                     *c = u8::MAX;
                 }
+                self.ownership.clear();
                 return Err(format!(
                     "held vertex entry ({v}, {k}, {j}) does not fit the sheet"
                 ));

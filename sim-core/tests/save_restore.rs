@@ -2,6 +2,8 @@
 //! exact continuation (a restored sim steps to the same bits as the original), and validation
 //! (every corrupted field gives a `RestoreError`, never a panic).
 
+mod common;
+
 use rand::{RngExt, SeedableRng};
 use sim_core::control::{Command, GestureParam, GrabSlot};
 use sim_core::physics::sheet_contact::Boost;
@@ -220,13 +222,7 @@ fn an_older_sheet_whose_held_vertex_the_fresh_hands_do_not_name_opens_with_it_le
         back.step(&mut out);
         assert_eq!(out.stats.num_flipped, 0);
     }
-    assert!(
-        back.sheet()
-            .sp
-            .pos
-            .iter()
-            .all(|p| p.iter().all(|c| c.is_finite()))
-    );
+    assert!(common::positions_finite(&back));
 }
 
 #[test]

@@ -71,13 +71,7 @@ fn three_sound_frames(mut sim: Sim) -> FrameStats {
             out.stats.num_flipped, 0,
             "frame {frame}: a triangle turned over"
         );
-        assert!(
-            sim.sheet()
-                .sp
-                .pos
-                .iter()
-                .all(|p| p.iter().all(|c| c.is_finite()))
-        );
+        assert!(common::positions_finite(&sim));
         first.get_or_insert(out.stats);
     }
     first.expect("three frames")

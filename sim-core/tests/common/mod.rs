@@ -1,5 +1,8 @@
 //! Helpers shared by the integration tests.
 
+// Each test crate compiles this module and uses only some of it.
+#![allow(dead_code)]
+
 use sim_core::sim::{SavedSheet, Sim, SimConfig};
 use sim_core::stress::StressFixture;
 
@@ -15,4 +18,13 @@ pub fn restore_fixture(json: &str) -> Sim {
     fixture
         .restore(SimConfig::default())
         .expect("the fixture restores")
+}
+
+/// True if every S_P position of `sim` is finite.
+pub fn positions_finite(sim: &Sim) -> bool {
+    sim.sheet()
+        .sp
+        .pos
+        .iter()
+        .all(|p| p.iter().all(|c| c.is_finite()))
 }
