@@ -57,7 +57,7 @@ pub use self::meters::Meters;
 pub use self::param_values::{ParamError, ParamValues};
 use self::view::ViewPublisher;
 pub use self::view::{ViewFrame, ViewShared};
-use self::worker::{PUBLISH_INTERVAL_FRAMES, WorkerHandle, WorkerShared, WorkerState};
+use self::worker::{WorkerHandle, WorkerShared, WorkerState};
 use crate::gesture_map::{self, Action, MidiInput};
 use crate::render::{MixLevels, Renderer, Scene};
 use crate::state::SheetStore;
@@ -99,7 +99,8 @@ struct Lockstep {
     next_frame: u64,
     pending: VecDeque<(u64, WorkerMsgKind)>,
     was_awake: bool,
-    frames_since_publish: u64,
+    /// A frame moved the sheet since it was last published.
+    unpublished: bool,
     /// Store generation the sheet is based on (publishes are refused after a newer load).
     sheet_generation: u64,
     view: ViewPublisher,
@@ -188,7 +189,7 @@ impl Engine {
                 next_frame: 0,
                 pending: VecDeque::with_capacity(COMMAND_QUEUE_CAPACITY),
                 was_awake: false,
-                frames_since_publish: 0,
+                unpublished: false,
                 sheet_generation: store_generation,
                 view: ViewPublisher::install(&view),
                 view_shared: view.clone(),
@@ -415,7 +416,8 @@ impl Engine {
     /// threaded mode; in lockstep mode only a sheet rebuild (reset, size change, restore), a
     /// step that inserts a vertex for a singular point or flips an edge
     /// (`Sim::refinement_pending`) or the
-    /// periodic publish for the saved project allocates, and those are permitted explicitly.
+    /// publish for the saved project at the end of a block in which the sheet moved allocates,
+    /// and those are permitted explicitly.
     pub fn render(&mut self, left: &mut [f32], right: &mut [f32]) {
         let n = left.len().min(right.len());
         match &mut self.host {
@@ -466,24 +468,25 @@ impl Engine {
                             nice_plug::util::permit_alloc(|| rec.push(l.out.sound));
                         }
                         l.view.after_frame(&l.view_shared, &l.sim, &l.out.stats);
+                        // The sheet moved, or came to rest, this frame: published at the
+                        // block's end, so a save between blocks holds it as it is.
                         let awake = !l.out.stats.asleep;
-                        l.frames_since_publish += 1;
-                        if (l.was_awake && !awake)
-                            || (awake && l.frames_since_publish >= PUBLISH_INTERVAL_FRAMES)
-                        {
-                            let store = &self.store;
-                            let generation = l.sheet_generation;
-                            let sim = &l.sim;
-                            nice_plug::util::permit_alloc(|| {
-                                store.try_publish(sim.save(), generation)
-                            });
-                            l.frames_since_publish = 0;
-                        }
+                        l.unpublished |= awake || l.was_awake;
                         l.was_awake = awake;
                         l.next_frame += 1;
                         continue;
                     }
                     if pos >= n {
+                        if l.unpublished {
+                            let store = &self.store;
+                            let generation = l.sheet_generation;
+                            let sim = &l.sim;
+                            // Offline: the host does not wait for this block in real time.
+                            let published = nice_plug::util::permit_alloc(|| {
+                                store.try_publish(sim.save(), generation)
+                            });
+                            l.unpublished = !published;
+                        }
                         break;
                     }
                     let seg_end = n.min((end - self.clock) as usize);

@@ -399,6 +399,84 @@ fn a_project_reopens_in_its_own_room_after_the_instance_played_in_another() {
     );
 }
 
+/// The sheet in a saved state (its JSON).
+fn saved_sheet(state: &[u8]) -> serde_json::Value {
+    let v = split_state(state);
+    let text = v["fields"]["sheet"]
+        .as_str()
+        .expect("the sheet field is JSON text");
+    serde_json::from_str(text).expect("the sheet is JSON")
+}
+
+/// A project saved while the sheet moves holds the sheet as it is at the save, offline and in
+/// real time (the worker thread answers the save). Before, the sheet was published only when it
+/// came to rest and every 400 frames (2 s) while it moved: a project saved 2.5 s into a shake
+/// stored the sheet of 2.0 s.
+#[test]
+fn a_project_saved_mid_gesture_holds_the_sheet_as_it_is_at_the_save() {
+    let _serial = serial();
+    let b = bundle();
+    let sr = 48_000.0;
+    let second = |t: f64| (t * sr) as u64;
+    // 2.5 s at 48 kHz: 500 frames of 240 samples.
+    let frames = 500;
+    // The front edge grabbed and shaken: the sheet moves all along (a crumple comes to rest
+    // in the hands and sleeps within a second).
+    let shake = |inst: &Instance| {
+        vec![
+            HostEvent::NoteOn {
+                at: 10,
+                key: 50,
+                velocity: 0.8,
+            },
+            HostEvent::Param {
+                at: 20,
+                id: inst.param("Shake Depth"),
+                value: 0.5,
+            },
+        ]
+    };
+    let check = |state: &[u8], what: &str| {
+        let sheet = saved_sheet(state);
+        assert_eq!(sheet["frame"], frames, "{what}: the saved sheet's frame");
+        assert_eq!(
+            sheet["asleep"], false,
+            "{what}: the sheet moved at the save"
+        );
+    };
+
+    // Offline, saved while active (a render that ends deactivates the plugin, which publishes
+    // the sheet anyway).
+    let mut a = instance(&b);
+    a.set_offline(true).unwrap();
+    let events = shake(&a);
+    let (offline, l, r) = a
+        .process_concurrently(sr, 512, &events, |inst, audio| {
+            assert!(audio.play_and_wait(second(2.5)), "audio thread failed");
+            inst.save_state().unwrap()
+        })
+        .unwrap();
+    assert!(all_finite_normal(&l) && all_finite_normal(&r));
+    check(&offline, "offline");
+
+    // In real time: the audio thread is held to about real-time pace (10 ms blocks, 10 ms
+    // apart) so the worker keeps up without skipping frames, as in a host.
+    let mut c = instance(&b);
+    c.set_offline(false).unwrap();
+    let events = shake(&c);
+    let (real_time, l, r) = c
+        .process_concurrently(sr, 480, &events, |inst, audio| {
+            for k in 1..=250 {
+                assert!(audio.play_and_wait(second(0.01) * k), "audio thread failed");
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            inst.save_state().unwrap()
+        })
+        .unwrap();
+    assert!(all_finite_normal(&l) && all_finite_normal(&r));
+    check(&real_time, "in real time");
+}
+
 #[test]
 fn corrupt_state_is_rejected_and_the_plugin_keeps_its_values() {
     let _serial = serial();

@@ -15,7 +15,8 @@
 //! The steady state does not allocate: the command backlog is preallocated and the simulation
 //! preallocates its own storage. Exceptions, all rare and off the audio thread: rebuilding the
 //! sheet (reset, size change, restore) and publishing the sheet for the saved project (when the
-//! sheet comes to rest, and every [`PUBLISH_INTERVAL_FRAMES`] frames while it moves).
+//! sheet comes to rest, every [`PUBLISH_INTERVAL_FRAMES`] frames while it moves, and when the
+//! host saves: `crate::state`, "A save holds the sheet as it is now").
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -187,6 +188,7 @@ fn run(
     // The sheet was built on another thread: the solver's dense kernels make their lazy
     // first-use allocations now, not in the first step that needs them.
     sim_core::warm_up_thread();
+    store.set_worker_live(true);
 
     while !shared.stop.load(Ordering::Acquire) {
         while pending.len() < pending.capacity() {
@@ -253,10 +255,15 @@ fn run(
             st.next_frame += 1;
             stepped += 1;
         }
+        // Every frame the audio clock reached is stepped: a host's save gets this sheet.
+        if store.serve_save_request(st.store_generation, || st.sim.save()) {
+            frames_since_publish = 0;
+        }
         if stepped == 0 {
             std::thread::park_timeout(IDLE_PARK);
         }
     }
+    store.set_worker_live(false);
 
     // Apply what is left, so a grab or reset sent just before stopping is not lost.
     while let Some(m) = shared.commands.pop() {
