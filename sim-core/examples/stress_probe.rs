@@ -22,6 +22,7 @@ fn main() {
         change_size: true,
         validate_every: 0,
         restore_check_every: 0,
+        restore_check_frames: 1,
         trace: false,
     };
     let r = run_with(&cfg, |f, sim| {

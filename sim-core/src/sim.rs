@@ -1504,6 +1504,7 @@ impl Sim {
             geometry: Some(self.geometry.save()),
             contact_boosts: self.physics.contact_boosts().to_vec(),
             hand_defs: self.rig.hand_defs_state(),
+            sound_history: Some(self.analysis.save_history()),
         }
     }
 
@@ -1557,6 +1558,15 @@ impl Sim {
             .restore(&sim.sheet.sp, &mut sim.sheet.sg, saved.geometry.as_ref())
             .map_err(RestoreError::Invalid)?;
         sim.sheet.sg.pull_positions(&sim.sheet.sp);
+        // The singular vertices the sheet already has are not new: no clac for them (the
+        // analysis was reset for the bare mesh, before they were restored).
+        let (w, l) = (sim.sheet.width_m, sim.sheet.length_m);
+        sim.analysis.reset(w, l, sim.sheet.sp.singular.len());
+        if let Some(h) = &saved.sound_history {
+            sim.analysis
+                .restore_history(h)
+                .map_err(RestoreError::Invalid)?;
+        }
         sim.rng = saved.rng.clone();
         sim.frame = saved.frame;
         sim.asleep = saved.asleep;

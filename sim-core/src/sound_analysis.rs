@@ -70,6 +70,15 @@
 //! Each event gives up to [`AnalysisConfig::max_resonators_per_event`] resonators (the largest
 //! by area), each playing at the full event amplitude (the seeds do not split it, Algorithm 4).
 //!
+//! ## Memory between frames, saved with the sheet
+//!
+//! Only the curvature grid remembers anything from one frame to the next: each point's last
+//! confident curvature and the time of its last flip (the refractory time). Both go into the
+//! saved sheet ([`SavedSoundHistory`]), so a reopened sheet makes the crumple events the
+//! uninterrupted one would; the count of singular vertices already clacked is the saved
+//! sheet's own. Everything else (curvature, vibration regions, resonators, friction) is
+//! recomputed from the sheet each frame.
+//!
 //! ## Cost and allocation
 //!
 //! All buffers are sized in [`SoundAnalysis::new`] for the mesh capacity and the grid of the
@@ -81,6 +90,8 @@ pub mod curvature;
 pub mod curvature_grid;
 pub mod friction_events;
 pub mod resonators;
+
+use serde::{Deserialize, Serialize};
 
 use crate::collision::VertexContact;
 use crate::sheet::physical::PhysMesh;
@@ -163,6 +174,20 @@ pub struct AnalysisStats {
     pub regions: u32,
 }
 
+/// The analysis' memory between frames, saved with the sheet ([`crate::sim::SavedSheet`]) so
+/// that a reopened sheet sounds as the uninterrupted one would: without it, a grid point whose
+/// curvature was confidently convex when the project was saved and turns concave in the next
+/// frames makes no crumple event, and a point still in its refractory time may flip again.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SavedSoundHistory {
+    /// Grid columns and rows.
+    pub grid_dims: [u32; 2],
+    /// Each grid point's last confident mean curvature, 1/m (0: none yet); row-major.
+    pub confident_curvature_per_m: Vec<f32>,
+    /// Simulated time of each grid point's last flip, seconds (`None`: never).
+    pub last_flip_s: Vec<Option<f64>>,
+}
+
 /// The per-frame analysis, with all its buffers.
 #[derive(Clone, Debug)]
 pub struct SoundAnalysis {
@@ -220,6 +245,39 @@ impl SoundAnalysis {
         self.grid.resize(width_m, length_m);
         self.known_singular = num_singular;
         self.stats = AnalysisStats::default();
+    }
+
+    /// The memory between frames, for a saved sheet.
+    pub fn save_history(&self) -> SavedSoundHistory {
+        let (nx, ny) = self.grid.dims();
+        let (h_ref, last_flip_s) = self.grid.history();
+        SavedSoundHistory {
+            grid_dims: [nx as u32, ny as u32],
+            confident_curvature_per_m: h_ref.to_vec(),
+            last_flip_s: last_flip_s
+                .iter()
+                .map(|&t| (t != f64::NEG_INFINITY).then_some(t))
+                .collect(),
+        }
+    }
+
+    /// Restores [`Self::save_history`] after [`Self::reset`] for the same sheet. Returns an
+    /// error message (and changes nothing) if it does not fit the grid.
+    pub fn restore_history(&mut self, saved: &SavedSoundHistory) -> Result<(), String> {
+        let (nx, ny) = self.grid.dims();
+        if saved.grid_dims != [nx as u32, ny as u32] {
+            return Err(format!(
+                "sound history is for a {:?} grid, the sheet's is [{nx}, {ny}]",
+                saved.grid_dims
+            ));
+        }
+        let last: Vec<f64> = saved
+            .last_flip_s
+            .iter()
+            .map(|t| t.unwrap_or(f64::NEG_INFINITY))
+            .collect();
+        self.grid
+            .restore_history(&saved.confident_curvature_per_m, &last)
     }
 
     /// Counts of the last analysed frame.

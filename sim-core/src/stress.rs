@@ -16,7 +16,8 @@
 //! - exact continuation of a saved sheet (checked periodically): the sheet is saved
 //!   ([`Sim::save`]) and restored ([`Sim::restore`]) with the session's present configuration,
 //!   the next frame's commands go to both, and after the frame both must save to the same
-//!   state, bit for bit. This is what a project reopened in a DAW relies on, checked at states
+//!   state, bit for bit, and their frames must have made the same sound input (events,
+//!   resonators, friction sources). This is what a project reopened in a DAW relies on, checked at states
 //!   no scenario reaches (mid-storm, pinned, split or undone frames, pending insertions).
 //!
 //! **About the strain bound.** The hostile stream makes hands contradict each other (eight
@@ -36,6 +37,7 @@ use rand::{RngExt, SeedableRng};
 use crate::control::{Command, GestureParam, GrabSlot, Material, SheetSize};
 use crate::room::RoomConfig;
 use crate::sim::{FrameOutput, RestoreError, SavedSheet, Sim, SimConfig};
+use crate::sound_input::SoundFrame;
 use serde::{Deserialize, Serialize};
 
 /// Largest vertex speed accepted, m/s (paper thrown hard moves at a few m/s).
@@ -59,6 +61,9 @@ pub struct StressConfig {
     /// Check every this many frames that a saved and restored sheet continues bit-identically
     /// (0: never).
     pub restore_check_every: u64,
+    /// Frames the restored copy is stepped alongside and compared (at least 1): a state kept
+    /// between frames and not saved may show only in a later frame.
+    pub restore_check_frames: u64,
     /// Print every command and frame to stderr (debugging).
     pub trace: bool,
 }
@@ -72,6 +77,7 @@ impl Default for StressConfig {
             change_size: true,
             validate_every: 1000,
             restore_check_every: 1000,
+            restore_check_frames: 4,
             trace: false,
         }
     }
@@ -200,8 +206,9 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
     let mut phase_left = 0u64;
     let mut phase = 0u32;
     let mut last_counts = (0u64, 0u64);
-    // The restored copy of the sheet, stepped alongside for one frame.
-    let mut twin: Option<Sim> = None;
+    // The restored copy of the sheet, stepped alongside for `restore_check_frames` frames, and
+    // how many of them are left.
+    let mut twin: Option<(Sim, u64)> = None;
     let mut twin_out = FrameOutput::default();
     for f in 0..cfg.frames {
         if phase_left == 0 {
@@ -220,25 +227,40 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
                 eprintln!("  {c:?}");
             }
             sim.apply(c);
-            if let Some(t) = twin.as_mut() {
+            if let Some((t, _)) = twin.as_mut() {
                 t.apply(c);
             }
             rep.commands += 1;
         }
         sim.step(&mut out);
-        if let Some(mut t) = twin.take() {
+        if let Some((mut t, left)) = twin.take() {
             t.step(&mut twin_out);
             let (a, b) = (sim.save(), t.save());
             if a != b {
                 rep.failure = Some((
                     f,
                     format!(
-                        "the sheet saved and restored after the previous frame does not \
-                         continue bit-identically: {} differ",
+                        "the sheet saved and restored {} frame(s) before does not continue \
+                         bit-identically: {} differ",
+                        cfg.restore_check_frames.max(1) - left + 1,
                         saved_differences(&a, &b).join(", ")
                     ),
                 ));
                 return rep;
+            }
+            if let Some(what) = sound_difference(&out.sound, &twin_out.sound) {
+                rep.failure = Some((
+                    f,
+                    format!(
+                        "the sheet saved and restored {} frame(s) before does not sound the \
+                         same: {what} differ",
+                        cfg.restore_check_frames.max(1) - left + 1
+                    ),
+                ));
+                return rep;
+            }
+            if left > 1 {
+                twin = Some((t, left - 1));
             }
         }
         inspect(f, &sim);
@@ -312,7 +334,7 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
         }
         if cfg.restore_check_every > 0 && (f + 1) % cfg.restore_check_every == 0 {
             match Sim::restore(*sim.config(), &sim.save()) {
-                Ok(t) => twin = Some(t),
+                Ok(t) => twin = Some((t, cfg.restore_check_frames.max(1))),
                 Err(e) => {
                     rep.failure = Some((f, format!("the saved sheet does not restore: {e}")));
                     return rep;
@@ -399,9 +421,28 @@ fn saved_differences(a: &SavedSheet, b: &SavedSheet) -> Vec<&'static str> {
         quiet_frames,
         geometry,
         contact_boosts,
-        hand_defs
+        hand_defs,
+        sound_history
     );
     d
+}
+
+/// What differs between the sound input of two frames (their events and sources, not the
+/// unused slots of their fixed-size arrays), if anything.
+fn sound_difference(a: &SoundFrame, b: &SoundFrame) -> Option<&'static str> {
+    if a.crumple() != b.crumple() {
+        Some("crumple events")
+    } else if a.friction() != b.friction() {
+        Some("friction sources")
+    } else if a.tear != b.tear {
+        Some("tear states")
+    } else if (a.frame, a.time_s) != (b.frame, b.time_s) {
+        Some("frame clocks")
+    } else if (a.dropped_crumple, a.dropped_friction) != (b.dropped_crumple, b.dropped_friction) {
+        Some("dropped-event counts")
+    } else {
+        None
+    }
 }
 
 /// Per-frame invariants.

@@ -67,10 +67,65 @@ fn json_round_trip_is_byte_identical_and_continues_bit_identically() {
                 "{name}: diverged at frame {n}"
             );
             assert_eq!(o1.stats, o2.stats);
+            assert_eq!(
+                o1.sound.crumple(),
+                o2.sound.crumple(),
+                "{name}: crumple events differ at frame {n}"
+            );
+            assert_eq!(o1.sound.friction(), o2.sound.friction());
             n += 1;
         }
         assert!(n > 100);
     }
+}
+
+/// A crumpled sheet reopened sounds as it would have: the singular points it already has make
+/// no clac (the analysis was reset for the bare mesh before they were restored, and the first
+/// frame after reopening clacked once for each of them), and the curvature grid remembers its
+/// last confident values and flip times (`SavedSheet::sound_history`), so the crumple events
+/// after reopening are the uninterrupted sheet's. A sheet saved before the history was kept
+/// still makes no clac for its old singular points.
+#[test]
+fn a_reopened_crumpled_sheet_sounds_as_the_uninterrupted_one() {
+    let (mut sim, mut runner, cfg) = mid_scenario("c5_full_crumple", 250);
+    let saved = sim.save();
+    assert!(saved.singular_vertices.len() >= 10, "the sheet is crumpled");
+    let history = saved.sound_history.as_ref().expect("the history is saved");
+    assert!(
+        history.confident_curvature_per_m.iter().any(|h| *h != 0.0),
+        "the grid has confident values"
+    );
+    let mut older = saved.clone();
+    older.sound_history = None;
+    let mut back = Sim::restore(cfg, &saved).unwrap();
+    let mut without = Sim::restore(cfg, &older).unwrap();
+    let mut outs = [(); 3].map(|()| FrameOutput::default());
+    let (mut events, mut clacs, mut cmds) = (0, [0u32; 3], Vec::new());
+    for f in 0..80 {
+        cmds.clear();
+        assert!(runner.next_frame(&mut cmds));
+        for (k, s) in [&mut sim, &mut back, &mut without].into_iter().enumerate() {
+            for c in &cmds {
+                s.apply(*c);
+            }
+            s.step(&mut outs[k]);
+            clacs[k] += s.analysis_stats().clac_events;
+        }
+        assert_eq!(
+            outs[0].sound.crumple(),
+            outs[1].sound.crumple(),
+            "crumple events differ at frame {f} after reopening"
+        );
+        events += outs[0].sound.crumple().len();
+    }
+    assert!(events > 0, "the squeeze crackles on");
+    assert_eq!(clacs[1], clacs[0], "clacs after reopening");
+    assert!(
+        clacs[2] <= clacs[0],
+        "an older save clacked {} times, the uninterrupted sheet {}",
+        clacs[2],
+        clacs[0]
+    );
 }
 
 #[test]
@@ -149,6 +204,26 @@ fn corrupted_sheets_are_rejected_with_clear_errors() {
                 factor: 4.0,
                 frames_left: 10,
             })
+        }),
+        ("sound history grid", |s| {
+            if let Some(h) = s.sound_history.as_mut() {
+                h.grid_dims[0] += 1;
+            }
+        }),
+        ("sound history length", |s| {
+            if let Some(h) = s.sound_history.as_mut() {
+                h.confident_curvature_per_m.pop();
+            }
+        }),
+        ("sound history curvature", |s| {
+            if let Some(h) = s.sound_history.as_mut() {
+                h.confident_curvature_per_m[7] = f32::NAN;
+            }
+        }),
+        ("sound history flip time", |s| {
+            if let Some(h) = s.sound_history.as_mut() {
+                h.last_flip_s[7] = Some(f64::INFINITY);
+            }
         }),
         ("contact boost factor", |s| {
             s.contact_boosts.push(Boost {

@@ -30,6 +30,7 @@ fn session_with(seed: u64, frames: u64, cut_strips: bool) -> sim_core::stress::S
         change_size: true,
         validate_every: 500,
         restore_check_every: 250,
+        restore_check_frames: 4,
         trace: false,
     };
     // Geometry-layer invariants after every frame: the interior singular count never

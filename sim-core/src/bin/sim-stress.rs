@@ -3,14 +3,16 @@
 //! ```text
 //! cargo run --release -p sim-core --bin sim-stress -- [--frames N] [--seed S] [--sessions K]
 //!     [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips]
-//!     [--contact-coupling N] [--no-reuse] [--restore-check-every N] [--trace]
+//!     [--contact-coupling N] [--no-reuse] [--restore-check-every N]
+//!     [--restore-check-frames N] [--trace]
 //! ```
 //!
 //! `--cut-strips` turns on the opt-in strip cutting (`GeometryConfig::cut_strips`);
 //! `--no-reuse` turns off the reused factorizations (`SolverConfig::reuse_factor`);
 //! `--contact-coupling N` sets `SolverConfig::contact_coupling_pairs` (0: the contact pairs'
 //! diagonal Hessian blocks only); `--restore-check-every N` saves and restores the sheet every
-//! N frames (default 1000, 0: never) and checks that the restored sheet continues bit-identically.
+//! N frames (default 1000, 0: never) and checks that the restored sheet continues bit-identically,
+//! with the same sound input, for the next `--restore-check-frames` frames (default 4).
 //!
 //! The frames are split into `K` sessions with seeds `S, S+1, …` (each a fresh sheet, sizes
 //! and materials changing within a session). Exits with status 1 on the first violated
@@ -30,6 +32,7 @@ fn main() {
     let mut solver = SolverKind::Newton;
     let mut trace = false;
     let mut restore_check_every: u64 = 1000;
+    let mut restore_check_frames: u64 = 4;
     let mut geometry = true;
     let mut cut_strips = false;
     let mut reuse = true;
@@ -57,6 +60,11 @@ fn main() {
                 restore_check_every = val()
                     .parse()
                     .unwrap_or_else(|_| usage("bad --restore-check-every"));
+            }
+            "--restore-check-frames" => {
+                restore_check_frames = val()
+                    .parse()
+                    .unwrap_or_else(|_| usage("bad --restore-check-frames"));
             }
             "--no-geometry" => geometry = false,
             "--cut-strips" => cut_strips = true,
@@ -104,6 +112,7 @@ fn main() {
             change_size: true,
             validate_every: 1000,
             restore_check_every,
+            restore_check_frames,
             trace,
         };
         let r = run(&cfg);
@@ -140,7 +149,7 @@ fn main() {
     }
     let secs = t0.elapsed().as_secs_f64();
     println!(
-        "OK: {total} frames ({cmds} commands, {asleep} asleep) in {secs:.1} s ({:.3} ms/frame); max speed {vmax:.2} m/s, max KE {kemax:.2e} J, max strain {strain:.3}; no NaN, no flipped triangle, no recovery, mesh valid, singular counts never decreased, c_mean bounded, saved sheets continued bit-identically",
+        "OK: {total} frames ({cmds} commands, {asleep} asleep) in {secs:.1} s ({:.3} ms/frame); max speed {vmax:.2} m/s, max KE {kemax:.2e} J, max strain {strain:.3}; no NaN, no flipped triangle, no recovery, mesh valid, singular counts never decreased, c_mean bounded, saved sheets continued bit-identically with the same sound input",
         secs * 1e3 / total.max(1) as f64
     );
 }
@@ -150,7 +159,7 @@ fn usage(msg: &str) -> ! {
         eprintln!("sim-stress: {msg}");
     }
     eprintln!(
-        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--contact-coupling N] [--no-reuse] [--restore-check-every N] [--trace]"
+        "usage: sim-stress [--frames N] [--seed S] [--sessions K] [--solver newton|xpbd] [--stretch-scale K] [--no-geometry] [--cut-strips] [--contact-coupling N] [--no-reuse] [--restore-check-every N] [--restore-check-frames N] [--trace]"
     );
     std::process::exit(2);
 }

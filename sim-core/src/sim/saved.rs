@@ -6,7 +6,8 @@
 //! velocities, per-edge rest angles and damage, the singular vertices, the RNG state, the frame
 //! counter, the gesture rig (commanded and rate-limited gestures, grips, handle poses, crumple
 //! jitter, shake phase, and where each hand holds the sheet: [`crate::gesture_rig::SavedHandDef`]),
-//! the effective obstacle planes and the sleep state. The room, frame rate and solver settings
+//! the effective obstacle planes, the sleep state and the sound analysis' memory
+//! ([`crate::sound_analysis::SavedSoundHistory`]: a reopened sheet sounds as it would have). The room, frame rate and solver settings
 //! are configuration, not saved state: a sheet continues bit-identically when it is restored
 //! with the configuration it was saved under (the stress runs check this, [`crate::stress`]).
 //! Restoring validates
@@ -94,6 +95,10 @@ pub struct SavedSheet {
     /// absent in older saves: worked out afresh from the sheet, as then).
     #[serde(default)]
     pub hand_defs: Vec<crate::gesture_rig::SavedHandDef>,
+    /// The sound analysis' memory between frames
+    /// ([`crate::sound_analysis::SavedSoundHistory`]; absent in older saves: it starts afresh).
+    #[serde(default)]
+    pub sound_history: Option<crate::sound_analysis::SavedSoundHistory>,
 }
 
 /// Why a saved sheet could not be restored.

@@ -160,6 +160,42 @@ impl CurvatureGrid {
         &self.h
     }
 
+    /// The memory between frames: each point's last confident curvature (1/m, 0 = none yet)
+    /// and the time of its last flip (s, −∞ = never).
+    pub fn history(&self) -> (&[f32], &[f64]) {
+        (&self.h_ref, &self.last_flip_s)
+    }
+
+    /// Restores [`Self::history`] on a grid of the same dimensions. Returns an error message
+    /// (and changes nothing) if the lengths do not fit the grid or a value is not finite
+    /// (−∞ is "never" for a flip time).
+    pub fn restore_history(&mut self, h_ref: &[f32], last_flip_s: &[f64]) -> Result<(), String> {
+        let n = self.nx * self.ny;
+        if h_ref.len() != n || last_flip_s.len() != n {
+            return Err(format!(
+                "sound history has {} and {} grid points, the grid has {n}",
+                h_ref.len(),
+                last_flip_s.len()
+            ));
+        }
+        if let Some(k) = h_ref.iter().position(|h| !h.is_finite()) {
+            return Err(format!(
+                "sound history: curvature of grid point {k} is not finite"
+            ));
+        }
+        if let Some(k) = last_flip_s
+            .iter()
+            .position(|t| !(t.is_finite() || *t == f64::NEG_INFINITY))
+        {
+            return Err(format!(
+                "sound history: flip time of grid point {k} is not finite"
+            ));
+        }
+        self.h_ref.copy_from_slice(h_ref);
+        self.last_flip_s.copy_from_slice(last_flip_s);
+        Ok(())
+    }
+
     /// Locates every grid point in S_P and interpolates the vertex mean curvature.
     pub fn sample(&mut self, sp: &PhysMesh, curv: &Curvature) {
         let located = !self.located_triangles.is_empty()
