@@ -205,11 +205,6 @@ fn corrupted_sheets_are_rejected_with_clear_errors() {
                 frames_left: 10,
             })
         }),
-        ("sound history grid", |s| {
-            if let Some(h) = s.sound_history.as_mut() {
-                h.grid_dims[0] += 1;
-            }
-        }),
         ("sound history length", |s| {
             if let Some(h) = s.sound_history.as_mut() {
                 h.confident_curvature_per_m.pop();
@@ -251,6 +246,27 @@ fn corrupted_sheets_are_rejected_with_clear_errors() {
         Err(RestoreError::BadPosition(3))
     ));
     Sim::restore(cfg, &good).unwrap();
+    // A sound history for another grid (a build with another grid spacing) is left out, not an
+    // error: the sheet opens, its history afresh.
+    let mut other_grid = good.clone();
+    if let Some(h) = other_grid.sound_history.as_mut() {
+        h.grid_dims[0] += 1;
+        h.confident_curvature_per_m.push(0.0);
+    }
+    let opened = Sim::restore(cfg, &other_grid).unwrap().save();
+    assert_eq!(opened.positions_m, good.positions_m);
+    let confident = |s: &SavedSheet| {
+        let h = s.sound_history.as_ref().expect("a history is saved");
+        h.confident_curvature_per_m
+            .iter()
+            .filter(|c| **c != 0.0)
+            .count()
+    };
+    assert!(
+        confident(&good) > 0,
+        "the bent sheet's grid has confident values"
+    );
+    assert_eq!(confident(&opened), 0, "the history starts afresh");
     // A valid boost is restored as saved.
     let mut boosted = good.clone();
     boosted.contact_boosts.push(Boost {
