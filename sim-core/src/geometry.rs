@@ -935,6 +935,14 @@ enum Border {
     None,
 }
 
+/// Whether a partition may turn lone flat facets beside curved triangles curved
+/// ([`GeometryLayer::restore`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Promote {
+    Yes,
+    No,
+}
+
 /// The geometry layer: persistent state and preallocated workspace.
 #[derive(Clone, Debug)]
 pub struct GeometryLayer {
@@ -1036,7 +1044,7 @@ impl GeometryLayer {
     /// A layer for `sp` (a new, flat sheet: every triangle flat, no singular vertex).
     pub fn new(sp: &PhysMesh, cfg: GeometryConfig, mat: &PaperMaterial, seed: u64) -> Self {
         let mut s = Self::unpublished(sp, cfg, mat, seed);
-        s.refresh(sp);
+        s.refresh(sp, Promote::Yes);
         s
     }
 
@@ -1155,9 +1163,9 @@ impl GeometryLayer {
 
     /// Publishes the partition, rulings and cones of the current shape without changing
     /// anything (a new or restored sheet, before its first awake frame).
-    fn refresh(&mut self, sp: &PhysMesh) {
+    fn refresh(&mut self, sp: &PhysMesh, promote: Promote) {
         self.analyse_shape(sp);
-        self.partition(sp);
+        self.partition(sp, promote);
         self.trace_rulings(sp);
         self.fit_cones();
         self.realign_rulings(sp);
@@ -1270,11 +1278,28 @@ impl GeometryLayer {
     /// Restores the persistent state (after `new` on the restored S_P). Without saved state
     /// (a version-2 sheet) the singular vertices are taken from `sp.singular` and everything
     /// else starts fresh. Errors name the inconsistent field.
+    ///
+    /// The saved flat/curved flags are kept exactly as saved: they are the flags the frame's
+    /// partition left (its promotion of lone flat facets beside curved triangles included),
+    /// judged on the shape the partition saw, before the isometry step and the end of the frame
+    /// moved the sheet. Partitioning the restored sheet again promoted facets by the moved
+    /// shape, and the restored sheet then judged its next frame from other flags than the
+    /// uninterrupted one (a hostile stress session, seed 15, frame 9 010).
     pub fn restore(
         &mut self,
         sp: &PhysMesh,
         sg: &mut GeomStructure,
         saved: Option<&SavedGeometry>,
+    ) -> Result<(), String> {
+        self.restore_with(sp, sg, saved, Promote::No)
+    }
+
+    fn restore_with(
+        &mut self,
+        sp: &PhysMesh,
+        sg: &mut GeomStructure,
+        saved: Option<&SavedGeometry>,
+        promote: Promote,
     ) -> Result<(), String> {
         let (nt, nv) = (sp.num_triangles(), sp.num_vertices());
         self.out.singular.clear();
@@ -1383,7 +1408,7 @@ impl GeometryLayer {
         }
         self.prev_curved.copy_from_slice(&self.curved);
         sync_sg_singular(sg, sp);
-        self.refresh(sp);
+        self.refresh(sp, promote);
         Ok(())
     }
 
@@ -1443,7 +1468,7 @@ impl GeometryLayer {
         if self.cfg.gauss_eps_factor.is_finite() {
             self.treat_nondevelopable(sp, sg, fixed, frame, made);
         }
-        self.partition(sp);
+        self.partition(sp, Promote::Yes);
         if flats_before > 0 && self.out.num_flat_regions > flats_before {
             let after = self.out.num_flat_regions;
             self.out.push_event(ShapeEvent::FlatRegionSplit {
@@ -2367,7 +2392,9 @@ impl GeometryLayer {
         let mut g = Self::unpublished(sp, self.cfg, mat, seed);
         g.eps_c = self.eps_c;
         g.sigma_m = self.sigma_m;
-        g.restore(sp, sg, Some(&saved))?;
+        // A mesh change in the frame loop partitions the new mesh afresh, promotions included
+        // (the live behaviour, unchanged).
+        g.restore_with(sp, sg, Some(&saved), Promote::Yes)?;
         for (t, &p) in tri_parent.iter().enumerate() {
             g.prev_curved[t] = self.prev_curved[p as usize];
         }
@@ -2390,8 +2417,10 @@ impl GeometryLayer {
         Ok(g)
     }
 
-    /// Step 7a: regions, creases, kinds, free borders, junctions.
-    fn partition(&mut self, sp: &PhysMesh) {
+    /// Step 7a: regions, creases, kinds, free borders, junctions. `promote`: whether lone flat
+    /// facets beside curved triangles turn curved (not when the flags are a saved frame's,
+    /// [`Self::restore`]).
+    fn partition(&mut self, sp: &PhysMesh, promote: Promote) {
         let topo = &sp.topo;
         let nt = sp.num_triangles();
         for (i, p) in self.uf.iter_mut().enumerate() {
@@ -2404,7 +2433,7 @@ impl GeometryLayer {
         // it turns curved (and keeps the hysteresis), so a fold running across the lattice
         // is one strip of curved triangles instead of a chain of one-triangle flat regions.
         for t in 0..nt {
-            if self.curved[t] {
+            if self.curved[t] || promote == Promote::No {
                 continue;
             }
             let (mut coplanar_flat, mut by_curved) = (false, false);

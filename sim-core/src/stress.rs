@@ -15,7 +15,8 @@
 //! - a valid mesh (topology and S_G consistency, checked periodically and at the end);
 //! - exact continuation of a saved sheet (checked periodically): the sheet is saved
 //!   ([`Sim::save`]) and restored ([`Sim::restore`]) with the session's present configuration,
-//!   the next frame's commands go to both, and after the frame both must save to the same
+//!   the restored sheet must save back to what was saved, the next frame's commands go to
+//!   both, and after each of the next `restore_check_frames` frames both must save to the same
 //!   state, bit for bit, and their frames must have made the same sound input (events,
 //!   resonators, friction sources). This is what a project reopened in a DAW relies on, checked at states
 //!   no scenario reaches (mid-storm, pinned, split or undone frames, pending insertions).
@@ -333,8 +334,25 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
             return rep;
         }
         if cfg.restore_check_every > 0 && (f + 1) % cfg.restore_check_every == 0 {
-            match Sim::restore(*sim.config(), &sim.save()) {
-                Ok(t) => twin = Some((t, cfg.restore_check_frames.max(1))),
+            let saved = sim.save();
+            match Sim::restore(*sim.config(), &saved) {
+                Ok(t) => {
+                    // Restoring must take every field as saved (nothing recomputed from the
+                    // sheet differently from the frame that saved it).
+                    let back = t.save();
+                    if back != saved {
+                        rep.failure = Some((
+                            f,
+                            format!(
+                                "the restored sheet saves differently from what it was saved \
+                                 as: {} differ",
+                                saved_differences(&saved, &back).join(", ")
+                            ),
+                        ));
+                        return rep;
+                    }
+                    twin = Some((t, cfg.restore_check_frames.max(1)));
+                }
                 Err(e) => {
                     rep.failure = Some((f, format!("the saved sheet does not restore: {e}")));
                     return rep;
@@ -424,6 +442,27 @@ fn saved_differences(a: &SavedSheet, b: &SavedSheet) -> Vec<&'static str> {
         hand_defs,
         sound_history
     );
+    if let (Some(ga), Some(gb)) = (&a.geometry, &b.geometry) {
+        macro_rules! geometry_field {
+            ($($f:ident),*) => {
+                $(if ga.$f != gb.$f {
+                    d.push(concat!("geometry.", stringify!($f)));
+                })*
+            };
+        }
+        geometry_field!(
+            curved,
+            refractory_until,
+            singular,
+            rng,
+            iso_undriven_compression,
+            pending_singular,
+            pending_flip,
+            pending_cut,
+            coarsen_from,
+            pending_coarsen
+        );
+    }
     d
 }
 
