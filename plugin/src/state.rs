@@ -17,8 +17,9 @@
 //!
 //! Publishing a moving sheet every frame would allocate on the worker 200 times a second, so the
 //! worker publishes on its own only when the sheet comes to rest and every
-//! `engine::worker::PUBLISH_INTERVAL_FRAMES` frames while it moves. A project saved between those would store a sheet
-//! up to 2 s old, and the last gestures' crumpling would be lost. So the host's save asks for the
+//! `engine::worker::PUBLISH_INTERVAL_FRAMES` frames while it moves. A project saved between
+//! those would store a sheet up to 2 s old, and the last gestures' crumpling would be lost.
+//! So the host's save asks for the
 //! sheet as it is: while a worker thread runs ([`SheetStore::set_worker_live`]), the save counts
 //! a request and waits (on the main thread, at most [`FRESH_SAVE_PATIENCE`]) until the worker has
 //! served it ([`SheetStore::serve_save_request`]). The worker serves it between frames, once it

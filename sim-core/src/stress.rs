@@ -18,8 +18,9 @@
 //!   the restored sheet must save back to what was saved, the next frame's commands go to
 //!   both, and after each of the next `restore_check_frames` frames both must save to the same
 //!   state, bit for bit, and their frames must have made the same sound input (events,
-//!   resonators, friction sources). This is what a project reopened in a DAW relies on, checked at states
-//!   no scenario reaches (mid-storm, pinned, split or undone frames, pending insertions).
+//!   resonators, friction sources). This is what a project reopened in a DAW relies on,
+//!   checked at states no scenario reaches (mid-storm, pinned, split or undone frames, pending
+//!   insertions).
 //!
 //! **About the strain bound.** The hostile stream makes hands contradict each other (eight
 //! crumple points squeezing while edge pinches pull, a table rising under held paper, …). The
@@ -236,14 +237,14 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
         sim.step(&mut out);
         if let Some((mut t, left)) = twin.take() {
             t.step(&mut twin_out);
+            let after = cfg.restore_check_frames.max(1) - left + 1;
             let (a, b) = (sim.save(), t.save());
             if a != b {
                 rep.failure = Some((
                     f,
                     format!(
-                        "the sheet saved and restored {} frame(s) before does not continue \
-                         bit-identically: {} differ",
-                        cfg.restore_check_frames.max(1) - left + 1,
+                        "the sheet saved and restored {after} frame(s) before does not \
+                         continue bit-identically: {} differ",
                         saved_differences(&a, &b).join(", ")
                     ),
                 ));
@@ -253,9 +254,8 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
                 rep.failure = Some((
                     f,
                     format!(
-                        "the sheet saved and restored {} frame(s) before does not sound the \
-                         same: {what} differ",
-                        cfg.restore_check_frames.max(1) - left + 1
+                        "the sheet saved and restored {after} frame(s) before does not sound \
+                         the same: {what} differ"
                     ),
                 ));
                 return rep;
