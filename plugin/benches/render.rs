@@ -4,7 +4,7 @@
 //!
 //! 1. **full scene** (test 2): 64 crumple voices kept playing (32 new distinct events every
 //!    100 ms, the pool steals), 16 friction sources, tearing, table + wall reflectors, frames every
-//!    5 ms — at 44.1 / 48 / 96 kHz with blocks of 64 / 256 / 1024. Criterion measures the time to
+//!    5 ms — at 44.1 / 48 / 96 / 192 kHz with blocks of 64 / 256 / 1024. Criterion measures the time to
 //!    render one second of audio (the ratio to real time is time / 1 s).
 //! 2. **friction only** (test 1): one friction stream summing 16 sources with table + wall, 60 s
 //!    at 44.1 kHz, static (the comb of each source is cached) and sliding (2 mm per hop: every
@@ -24,7 +24,7 @@ use sim_core::RoomConfig;
 use sim_core::sound_input::{CrumpleEvent, FrictionSource, Obstacle, Resonator, SoundFrame};
 use sounddb::SoundDb;
 
-const RATES: [f64; 3] = [44_100.0, 48_000.0, 96_000.0];
+const RATES: [f64; 4] = [44_100.0, 48_000.0, 96_000.0, 192_000.0];
 const BLOCKS: [usize; 3] = [64, 256, 1024];
 
 fn resonator(lr_cm: f32, lc_cm: f32, x: f32, y: f32) -> Resonator {

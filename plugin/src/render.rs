@@ -27,7 +27,8 @@
 //! [`Renderer::render`], [`Renderer::reset`], [`Renderer::set_mix`], [`Renderer::set_scene`],
 //! [`Renderer::set_options`] and [`Renderer::swap_db`] never allocate, lock or block (proved by
 //! `tests/tests/render_no_alloc.rs` with a counting global allocator). `render` accepts any
-//! length (it works in internal chunks of 256 samples), any rate from 8 to 192 kHz, and its output
+//! length (it works in internal chunks of 256 samples, 512 or 1024 above 88 kHz: 256 at the
+//! voices' unit rate, [`voice_bus`]), any rate from 8 to 192 kHz, and its output
 //! is never NaN, infinite or denormal.
 //!
 //! ## Determinism
@@ -58,6 +59,7 @@ pub mod rng;
 pub mod smoothing;
 pub mod tearing;
 pub mod unit_player;
+pub mod voice_bus;
 pub mod voice_pool;
 
 use std::sync::Arc;
@@ -74,6 +76,7 @@ use self::ears::Ears;
 use self::friction::Friction;
 use self::smoothing::GainSmoother;
 use self::tearing::{TearNoise, TearSettings};
+use self::voice_bus::VoiceBus;
 use self::voice_pool::{MAX_CHUNK, TriggerCtx, VoicePool};
 
 /// Largest block the plugin is guaranteed to get processed without internal splitting concerns;
@@ -232,6 +235,8 @@ pub struct Renderer {
     tear_tip: [f32; 3],
     opts: RenderOptions,
     voices: VoicePool,
+    /// The voices' bus at the unit rate (above 88 kHz), [`voice_bus`].
+    voice_bus: VoiceBus,
     friction: Friction,
     tear: TearNoise,
     bus: [Vec<f32>; 5],
@@ -272,10 +277,11 @@ impl Renderer {
             tear_ear_gain: [GainSmoother::new(1.0, rate); 2],
             tear_tip: [0.0; 3],
             opts: RenderOptions::default(),
-            voices: VoicePool::new(rate, seed),
+            voices: VoicePool::new(rate / sounddb::unit_decimation(rate) as f64, seed),
+            voice_bus: VoiceBus::new(sounddb::unit_decimation(rate)),
             friction: Friction::new(rate, seed),
             tear: TearNoise::new(rate, seed, TearSettings::default()),
-            bus: std::array::from_fn(|_| vec![0.0; MAX_CHUNK]),
+            bus: std::array::from_fn(|_| vec![0.0; MAX_CHUNK * sounddb::unit_decimation(rate)]),
             clock: 0,
             batch: 0,
             last_frame_clock: None,
@@ -301,6 +307,7 @@ impl Renderer {
     /// No allocation.
     pub fn reset(&mut self) {
         self.voices.reset();
+        self.voice_bus.reset();
         self.friction.reset();
         self.tear.reset();
         self.tear_tip = [0.0; 3];
@@ -401,7 +408,7 @@ impl Renderer {
             db,
             ears: &self.ears,
             reflectors: &self.reflectors[..self.num_reflectors],
-            clock: self.clock,
+            clock: self.voice_bus.voice_clock(),
             batch: self.batch,
             opts: &self.opts,
         };
@@ -417,7 +424,7 @@ impl Renderer {
         self.counters.render_calls += 1;
         let mut done = 0;
         while done < n {
-            let m = (n - done).min(MAX_CHUNK);
+            let m = (n - done).min(self.voice_bus.max_chunk());
             self.render_chunk(&mut left[done..done + m], &mut right[done..done + m]);
             done += m;
         }
@@ -439,9 +446,13 @@ impl Renderer {
         } else {
             &self.empty
         };
-        cl.fill(0.0);
-        cr.fill(0.0);
-        let (images, finished) = self.voices.render(db, cl, cr);
+        let (mut images, mut finished) = (0, 0);
+        let voices = &mut self.voices;
+        self.voice_bus.render(cl, cr, |l, r| {
+            let (i, f) = voices.render(db, l, r);
+            images += i;
+            finished += f;
+        });
         self.counters.unit_image_tap_blocks += images;
         self.counters.voices_finished += finished;
         self.friction.render(

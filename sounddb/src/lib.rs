@@ -78,7 +78,7 @@ mod wav;
 pub use cell::{Cell, CellIndex, GRID_CM};
 pub use database::{Database, DbInfo, FrictionSpectrum, Unit, UnitKind};
 pub use error::{DbError, Warning};
-pub use prepared::{CellId, PreparedUnit, SoundDb, friction_frame_len};
+pub use prepared::{CellId, PreparedUnit, SoundDb, friction_frame_len, unit_decimation};
 
 /// Sample rate of the seeds' recordings and of the generated databases, Hz (T 1903).
 pub const DEFAULT_SAMPLE_RATE_HZ: u32 = 44_100;

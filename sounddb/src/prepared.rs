@@ -7,7 +7,9 @@
 //!
 //! What preparation does:
 //!
-//! - **Units** are resampled to the host rate ([`crate::resample`]), their trailing samples below
+//! - **Units** are resampled to the unit rate ([`crate::resample`]): the host rate up to 88 kHz,
+//!   half of it up to 176 kHz and a quarter above ([`unit_decimation`], next section); their
+//!   trailing samples below
 //!   −90 dB of the unit's peak are trimmed (digest-sound §11.9: "free clac voices as soon as the
 //!   envelope is below −90 dB"), and they are stored as **16-bit integers with a per-unit scale**
 //!   (2 bytes/sample: the printer database takes ≈ 8 MB at 44.1 kHz instead of 16 MB as f32;
@@ -29,6 +31,18 @@
 //! fs · 2048 / 44100 whose only prime factors are 2, 3, 5, 7 (mixed-radix FFTs stay fast):
 //! 8 kHz → 378 (47.3 ms; hop 189), 44.1 kHz → 2048, 48 kHz → 2240 (46.7 ms), 88.2 kHz → 4096,
 //! 96 kHz → 4480, 192 kHz → 8960 (46.7 ms). The hop is M/2 (≈ 23 ms).
+//!
+//! ## Units at a reduced rate above 88 kHz
+//!
+//! A crumple voice costs a few multiply-adds per tap and output sample, so at 96 kHz the voices
+//! cost twice what they cost at 48 kHz for sound that has nothing above 22 kHz: the embedded
+//! database is recorded at 44.1 kHz (and an imported one rarely has anything audible above
+//! 20 kHz). So from 88 kHz on, units are stored at fs/2, from 176 kHz on at fs/4
+//! ([`unit_decimation`]; 88.2 → 44.1, 96 → 48, 176.4 → 44.1, 192 → 48 kHz), the renderer plays
+//! its voices at that rate and interpolates their sum to the host rate once (the renderer's
+//! `voice_bus`). Content of an imported database above the unit rate's Nyquist frequency is
+//! dropped (a band limit of ≈ 20 kHz, said in the README). Friction spectra stay at the host
+//! rate: the friction noise is made at the host rate directly.
 
 use crate::cell::{Cell, CellIndex};
 use crate::database::{Database, DbInfo};
@@ -69,11 +83,26 @@ pub fn friction_frame_len(sample_rate_hz: f64) -> usize {
     best
 }
 
+/// Below this host rate units are stored at the host rate; [`unit_decimation`].
+pub const HALF_RATE_UNITS_FROM_HZ: f64 = 88_000.0;
+
+/// By how much units are stored below the host rate (1, 2 or 4; see the module docs): 1 below
+/// 88 kHz, 2 below 176 kHz, 4 from there on. Non-finite or non-positive rates give 1.
+pub fn unit_decimation(sample_rate_hz: f64) -> usize {
+    if !(sample_rate_hz.is_finite() && sample_rate_hz >= HALF_RATE_UNITS_FROM_HZ) {
+        1
+    } else if sample_rate_hz < 2.0 * HALF_RATE_UNITS_FROM_HZ {
+        2
+    } else {
+        4
+    }
+}
+
 /// Index of a cell in a prepared database (crumple or friction list).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct CellId(pub u16);
 
-/// A crumple unit at the host rate.
+/// A crumple unit at the unit rate ([`SoundDb::unit_rate_hz`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PreparedUnit {
     /// Index in the PCM store of the first real sample ([`UNIT_PAD`] zeros precede it).
@@ -132,6 +161,8 @@ pub struct SoundDb {
     friction_index: CellIndex,
     /// friction_cells.len() × bins, already scaled for the un-normalised real iFFT.
     spectra: Vec<f32>,
+    /// Bins below the highest non-zero bin of any spectrum, + 1.
+    spectra_active_bins: usize,
     stats: PrepareStats,
 }
 
@@ -179,8 +210,9 @@ impl SoundDb {
                 }
             }
         }
-        let resampler = (f64::from(db.sample_rate_hz) != rate)
-            .then(|| Resampler::new(f64::from(db.sample_rate_hz), rate));
+        let unit_rate = rate / unit_decimation(rate) as f64;
+        let resampler = (f64::from(db.sample_rate_hz) != unit_rate)
+            .then(|| Resampler::new(f64::from(db.sample_rate_hz), unit_rate));
         let mut pcm: Vec<i16> = Vec::new();
         let mut units = Vec::with_capacity(db.units.len());
         for (k, members) in order.iter().enumerate() {
@@ -247,6 +279,11 @@ impl SoundDb {
         let friction_index =
             CellIndex::new(&friction_cells.iter().map(|c| c.cell).collect::<Vec<_>>());
         pcm.shrink_to_fit();
+        let spectra_active_bins = spectra
+            .chunks(bins.max(1))
+            .map(|s| s.iter().rposition(|v| *v != 0.0).map_or(0, |j| j + 1))
+            .max()
+            .unwrap_or(0);
         SoundDb {
             sample_rate_hz: rate,
             frame_len,
@@ -258,6 +295,7 @@ impl SoundDb {
             friction_cells,
             friction_index,
             spectra,
+            spectra_active_bins,
             stats,
         }
     }
@@ -265,6 +303,12 @@ impl SoundDb {
     /// The rate this database was prepared for; `None` for the empty database (any rate).
     pub fn sample_rate_hz(&self) -> Option<f64> {
         (self.sample_rate_hz > 0.0).then_some(self.sample_rate_hz)
+    }
+
+    /// The rate the units are stored and played at: the host rate / [`unit_decimation`]; 0 for
+    /// the empty database.
+    pub fn unit_rate_hz(&self) -> f64 {
+        self.sample_rate_hz / unit_decimation(self.sample_rate_hz) as f64
     }
 
     /// True if a renderer at `sample_rate_hz` can use this database.
@@ -297,6 +341,13 @@ impl SoundDb {
     /// Number of bins of each prepared spectrum (M/2 + 1).
     pub fn spectrum_bins(&self) -> usize {
         self.frame_len / 2 + 1
+    }
+
+    /// The friction spectra are zero from this bin on (every cell's): a database recorded at
+    /// 44.1 kHz has nothing above 22.05 kHz, so at 96 kHz 1 025 of the 2 241 bins carry sound.
+    /// The render path does no per-bin work beyond it. 0 without spectra.
+    pub fn friction_active_bins(&self) -> usize {
+        self.spectra_active_bins.min(self.spectrum_bins())
     }
 
     /// Preparation statistics.
@@ -449,6 +500,39 @@ mod tests {
                 "{rate}: {var} vs {expect}"
             );
         }
+    }
+
+    #[test]
+    fn units_are_stored_at_a_half_or_a_quarter_of_high_host_rates() {
+        for (rate, d) in [
+            (8_000.0, 1),
+            (48_000.0, 1),
+            (87_999.0, 1),
+            (88_200.0, 2),
+            (96_000.0, 2),
+            (176_400.0, 4),
+            (192_000.0, 4),
+            (f64::NAN, 1),
+        ] {
+            assert_eq!(unit_decimation(rate), d, "{rate}");
+        }
+        // A 44.1 kHz unit at 88.2 kHz needs no conversion; at 96 kHz it is stored at 48 kHz.
+        let p = SoundDb::prepare(&db(), 88_200.0);
+        assert_eq!((p.unit_rate_hz(), p.stats.resampled_units), (44_100.0, 0));
+        assert_eq!(p.unit(0).len, 12);
+        let p = SoundDb::prepare(&db(), 96_000.0);
+        assert_eq!((p.unit_rate_hz(), p.stats.resampled_units), (48_000.0, 1));
+        assert!(p.matches_rate(96_000.0) && !p.matches_rate(48_000.0));
+        // Friction spectra stay on the host rate's bins; those above 22.05 kHz are silent.
+        let s = p.friction_spectrum(CellId(0));
+        assert_eq!(s.len(), friction_frame_len(96_000.0) / 2 + 1);
+        let active = p.friction_active_bins();
+        let df = 96_000.0 / friction_frame_len(96_000.0) as f64;
+        assert!(s[..active].last().is_some_and(|v| *v > 0.0));
+        assert!(s[active..].iter().all(|v| *v == 0.0));
+        assert!((active as f64 * df - 22_050.0).abs() < 2.0 * df, "{active}");
+        assert_eq!(SoundDb::empty().friction_active_bins(), 0);
+        assert_eq!(SoundDb::empty().unit_rate_hz(), 0.0);
     }
 
     #[test]

@@ -414,3 +414,77 @@ fn events_of_a_frame_log_trigger_like_direct_calls() {
     let direct: Vec<CrumpleEvent> = frames.iter().flat_map(|f| f.crumple().to_vec()).collect();
     assert_eq!(parsed, direct);
 }
+
+/// Above 88 kHz the voices play at a half or a quarter of the host rate and are interpolated
+/// (`plugin/src/render/voice_bus.rs`): the same crumple performance must sound the same as at
+/// 48 kHz in every 1/3-octave band up to 16 kHz, have as little above 22.05 kHz as the 48 kHz
+/// render has between 22.05 and 24 kHz, put nothing of its own above 28 kHz (the interpolator's
+/// images), and stay independent of the host's block size.
+#[test]
+fn voices_above_88_khz_sound_as_at_48_khz() {
+    let events: Vec<CrumpleEvent> = (0..40)
+        .map(|k| {
+            let sizes = [2.5f32, 5.0, 10.0, 20.0, 30.0];
+            crumple(
+                0.2 + 0.02 * k as f32,
+                resonator(sizes[k % 5], 2.0 * sizes[(k / 5) % 5]),
+            )
+        })
+        .collect();
+    let play = |rate: f64, block: usize| {
+        let mut r = renderer(rate, printer_db(rate), 5, table_and_wall());
+        let step = (0.025 * rate) as usize;
+        let mut l = Vec::new();
+        for e in &events {
+            r.trigger(e);
+            l.extend(render(&mut r, step, block).0);
+        }
+        l.extend(render(&mut r, rate as usize, block).0);
+        assert_eq!(r.counters().nonfinite_samples, 0);
+        l
+    };
+    // PSD with 11.7 Hz bins at every rate, and the share of the power above a frequency, dB.
+    let analyse = |x: &[f32], rate: f64| {
+        let n = (4096.0 * rate / 48_000.0) as usize;
+        (welch_psd(x, rate, n), rate / n as f64)
+    };
+    let share_db = |psd: &[f64], df: f64, lo_hz: f64| {
+        let total: f64 = psd.iter().sum();
+        let above: f64 = psd
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k as f64 * df > lo_hz)
+            .map(|(_, p)| p)
+            .sum();
+        10.0 * (above / total).log10()
+    };
+    let (ref_psd, ref_df) = analyse(&play(48_000.0, 512), 48_000.0);
+    let ref_levels = third_octave_levels_db(&ref_psd, ref_df);
+    let ref_top_db = share_db(&ref_psd, ref_df, 22_050.0);
+    let centres = sounddb::analysis::third_octave_centres_hz();
+    for rate in [96_000.0, 192_000.0] {
+        let x = play(rate, 512);
+        assert_eq!(
+            x,
+            play(rate, 37),
+            "{rate}: another block size renders differently"
+        );
+        let (psd, df) = analyse(&x, rate);
+        let levels = third_octave_levels_db(&psd, df);
+        for ((a, b), fc) in ref_levels.iter().zip(&levels).zip(&centres) {
+            if *fc <= 16_000.0 {
+                assert!(
+                    (a - b).abs() < 0.5,
+                    "{rate}: {fc:.0} Hz band {b:.2} dB vs {a:.2} dB"
+                );
+            }
+        }
+        let top_db = share_db(&psd, df, 22_050.0);
+        assert!(
+            top_db < ref_top_db + 1.0,
+            "{rate}: {top_db:.1} dB above 22.05 kHz, at 48 kHz {ref_top_db:.1} dB"
+        );
+        let images_db = share_db(&psd, df, 28_000.0);
+        assert!(images_db < -90.0, "{rate}: {images_db:.1} dB above 28 kHz");
+    }
+}

@@ -108,6 +108,8 @@ struct CombSlot {
     centre_m: [f32; 3],
     normal: [f32; 3],
     last_used: u64,
+    /// Bins computed (the database's active bins when it was claimed).
+    len: usize,
 }
 
 /// Fixed-size store of cached comb magnitudes ([`CACHE_SLOTS`] slots × bins).
@@ -137,13 +139,21 @@ impl CombCache {
         }
     }
 
-    fn find(&self, res: &Resonator, ear: usize, version: u64, enabled: bool) -> Option<usize> {
+    fn find(
+        &self,
+        res: &Resonator,
+        ear: usize,
+        version: u64,
+        len: usize,
+        enabled: bool,
+    ) -> Option<usize> {
         if !enabled {
             return None;
         }
         self.slots.iter().position(|s| {
             s.valid
                 && s.ear as usize == ear
+                && s.len >= len
                 && s.scene_version == version
                 && (0..3)
                     .map(|i| (s.centre_m[i] - res.centre_m[i]).powi(2))
@@ -157,7 +167,7 @@ impl CombCache {
     }
 
     /// The least recently used slot, re-keyed for `res`.
-    fn claim(&mut self, res: &Resonator, ear: usize, version: u64) -> usize {
+    fn claim(&mut self, res: &Resonator, ear: usize, version: u64, len: usize) -> usize {
         let k = self
             .slots
             .iter()
@@ -171,6 +181,7 @@ impl CombCache {
             centre_m: res.centre_m,
             normal: res.normal,
             last_used: 0,
+            len,
         };
         k
     }
@@ -426,8 +437,14 @@ impl Friction {
         self.num_entries = 0;
         // Random phases shared by both ears, from the hop's own stream (so skipping silent hops
         // never shifts later phases); DC and Nyquist stay real (0).
+        // Bins from the database's last non-zero one on carry nothing: no phase is drawn there
+        // (the draws below it are the same as if it were).
         let mut rng = NoiseRng::new(self.seed, PHASE_STREAM_BASE + hop_index);
-        for j in 0..self.bins {
+        let active = db.friction_active_bins().min(self.bins);
+        for e in 0..2 {
+            self.spec[e][active..].fill(Complex::new(0.0, 0.0));
+        }
+        for j in 0..active {
             let (c, s) = if j == 0 || j == self.bins - 1 {
                 (0.0, 0.0)
             } else {
@@ -482,6 +499,8 @@ impl Friction {
         }
         let cells = db.friction_cells();
         let bins = self.bins;
+        // Per-bin work stops at the database's last non-zero bin (above it every spectrum is 0).
+        let active = db.friction_active_bins().min(bins);
         for e in &self.entries[..self.num_entries] {
             let cell = cells[e.cell as usize];
             // Unit-strength paths; the strength (amplitude × duration share × size factor)
@@ -489,7 +508,7 @@ impl Friction {
             let strength = ((e.weight * inv_hop) as f64
                 * size_factor(e.res.radius_m, cell.reference_radius_m))
                 as f32;
-            let spectrum = db.friction_spectrum(CellId(e.cell));
+            let spectrum = &db.friction_spectrum(CellId(e.cell))[..active];
             for ear in 0..2 {
                 let mut paths: EarPaths =
                     resonator_paths(&e.res, 1.0, ears.ear_m[ear], reflectors, opts.cos_floor);
@@ -501,26 +520,26 @@ impl Friction {
                     paths.num_images = 1;
                 }
                 if paths.num_images > 0 {
-                    let slot = self
-                        .cache
-                        .find(&e.res, ear, scene_version, opts.cache_geometry);
+                    let slot =
+                        self.cache
+                            .find(&e.res, ear, scene_version, active, opts.cache_geometry);
                     let slot = match slot {
                         Some(k) => {
                             counters.friction_comb_cache_hits += 1;
                             k
                         }
                         None => {
-                            let k = self.cache.claim(&e.res, ear, scene_version);
+                            let k = self.cache.claim(&e.res, ear, scene_version, active);
                             counters.friction_comb_bins += super::dipole::comb_magnitude(
                                 &paths,
                                 d_omega,
-                                self.cache.magnitude_mut(k, bins),
+                                &mut self.cache.magnitude_mut(k, bins)[..active],
                             );
                             k
                         }
                     };
                     self.cache.touch(slot, self.hop_index);
-                    let h = self.cache.magnitude(slot, bins);
+                    let h = &self.cache.magnitude(slot, bins)[..active];
                     for ((a, hj), s) in self.mag[ear].iter_mut().zip(h).zip(spectrum) {
                         *a += (strength * hj) * s;
                     }
@@ -540,7 +559,7 @@ impl Friction {
             for ear in 0..2 {
                 for (c, &w) in self.cell_weight[ear].iter().enumerate().take(cells.len()) {
                     if w != 0.0 {
-                        let spectrum = db.friction_spectrum(CellId(c as u16));
+                        let spectrum = &db.friction_spectrum(CellId(c as u16))[..active];
                         for (a, s) in self.mag[ear].iter_mut().zip(spectrum) {
                             *a += w * s;
                         }
@@ -563,12 +582,15 @@ mod tests {
             normal: [0.0, 0.0, 1.0],
             ..Resonator::default()
         };
-        assert!(c.find(&res, 0, 1, true).is_none());
-        let k = c.claim(&res, 0, 1);
+        assert!(c.find(&res, 0, 1, 6, true).is_none());
+        let k = c.claim(&res, 0, 1, 6);
         c.touch(k, 5);
-        assert_eq!(c.find(&res, 0, 1, true), Some(k));
-        assert!(c.find(&res, 1, 1, true).is_none());
-        assert!(c.find(&res, 0, 2, true).is_none());
+        assert_eq!(c.find(&res, 0, 1, 6, true), Some(k));
+        assert_eq!(c.find(&res, 0, 1, 4, true), Some(k));
+        assert!(c.find(&res, 1, 1, 6, true).is_none());
+        assert!(c.find(&res, 0, 2, 6, true).is_none());
+        // Computed for 6 bins: not enough for a database with sound in 8.
+        assert!(c.find(&res, 0, 1, 8, true).is_none());
     }
 
     #[test]
@@ -610,7 +632,9 @@ mod tests {
                 &mut counters,
             );
         }
-        assert_eq!(counters.friction_comb_bins, 2 * 1025, "{counters:?}");
+        // The Nyquist bin is always 0, so the comb is computed for the 1 024 bins below it.
+        assert_eq!(db.friction_active_bins(), 1024);
+        assert_eq!(counters.friction_comb_bins, 2 * 1024, "{counters:?}");
         assert_eq!(counters.friction_comb_cache_hits, 2 * 8);
     }
 }
