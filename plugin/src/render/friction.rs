@@ -46,6 +46,10 @@
 //!   into one weight before touching the bins.
 //! - **Skips** (§11.2): a hop without sources runs no iFFT; the second half of the last frame
 //!   still plays (the tail), then the generator goes silent and costs nothing.
+//! - **Silent bins**: the per-bin work (|H|, the weighted sums, the phases) stops at the
+//!   database's last non-zero bin (`SoundDb::friction_active_bins`). A database made at
+//!   44.1 kHz fills 1 025 of the 2 241 bins at 96 kHz; the bins above are 0, as they would be
+//!   anyway, and the phases drawn below are the same, so the output is unchanged.
 //!
 //! Because frames start at absolute sample positions and depend only on the inputs received
 //! before them, the output does not depend on how `render()` calls are split.
