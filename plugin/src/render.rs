@@ -19,7 +19,7 @@
 //! comb), [`ears`] (stereo listener), [`friction`] (iFFT OLA), [`tearing`] (crackle noise),
 //! [`smoothing`] (mix and per-frame interpolation), [`output_stage`] (safety clip), [`counters`]
 //! (proof of the skips), [`rng`] (seeded noise), [`frame_log`] (JSON-lines sound input),
-//! [`default_db`] (the embedded database).
+//! [`mod@default_db`] (the embedded database).
 //!
 //! ## Real-time contract
 //!
@@ -248,7 +248,7 @@ pub struct Renderer {
 
 impl Renderer {
     /// Builds a renderer (allocates everything it will ever need). `db` must be prepared for
-    /// `sample_rate_hz` ([`SoundDb::prepare`], [`default_db`]) or be the empty database; a
+    /// `sample_rate_hz` ([`SoundDb::prepare`], [`default_db()`]) or be the empty database; a
     /// database prepared for another rate is kept but not played (triggers are counted as
     /// `triggers_without_unit`). The rate is clamped to 8–192 kHz.
     pub fn new(sample_rate_hz: f64, db: Arc<SoundDb>, seed: u64) -> Self {

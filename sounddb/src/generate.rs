@@ -46,7 +46,7 @@ pub enum Material {
     Banknote,
 }
 
-/// Model parameters of a material ([proposal] values; the seeds give only printer paper's
+/// Model parameters of a material (proposal values; the seeds give only printer paper's
 /// 80 g/m² and no mechanical constants).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MaterialParams {

@@ -219,7 +219,7 @@ pub fn editor_size(inst: &mut Instance) -> Result<GuiSize, String> {
     gui.get_size(&h).ok_or_else(|| "get_size failed".into())
 }
 
-/// Hides and destroys the editor, then waits (up to [`THREAD_END_PATIENCE`]) until every thread
+/// Hides and destroys the editor, then waits (up to `THREAD_END_PATIENCE`) until every thread
 /// started since [`open_editor`] has ended.
 ///
 /// `destroy` does not always wait for the window's thread: baseview 0.4.2's window handle, when

@@ -4,7 +4,7 @@
 //! [`SoundFrame`] per line. `--write-frames FILE` records the frames the simulated sheet delivers
 //! to the render path during an ordinary render ([`FrameRecorder`]); `--frames FILE` plays a log
 //! (recorded so, or written by another tool) through the same render path ([`Renderer`], set up
-//! as the engine sets it up) without simulating a sheet ([`play`]).
+//! as the engine sets it up) without simulating a sheet (`play`).
 //!
 //! ## Timing
 //!

@@ -22,7 +22,7 @@
 //! `|H(ω)|² = Σ_i g_i² + 2 Σ_{i<j} g_i g_j cos(ω (τ_i − τ_j))` — one image per reflector, first
 //! order only (no image of an image), as the seeds (one plane per equation).
 //!
-//! Our choices (digest-sound §5.3, [proposal]):
+//! Our choices (digest-sound §5.3, its proposal):
 //!
 //! - **Size factor.** The database units already carry the size of the sheet they were recorded
 //!   (synthesized) from, so a³ is applied *relative to the entry*: `(a / a_ref)³` with

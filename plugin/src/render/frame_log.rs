@@ -3,7 +3,7 @@
 //! The seeds note that the per-frame sound parameters (events, amplitudes, resonator sizes) can be
 //! logged and replayed offline at a fixed frame rate (T 1832). `papier-render` can render from such
 //! a log instead of simulating; the render tests use logs as fixtures. One
-//! [`SoundFrame`](sim_core::SoundFrame) per line, UTF-8, `\n`-separated:
+//! [`SoundFrame`] per line, UTF-8, `\n`-separated:
 //!
 //! ```json
 //! {"frame":12,"time_s":0.06,

@@ -17,7 +17,7 @@
 //! continuous, which broadens the peaks), plus a diffuse unit floor above the
 //! lowest mode f_low (the thousands of higher modes; below f_low the panel barely radiates), the
 //! whole "resonance region" rolling off at −6 dB/octave above 20 f_low. The roll-off is our
-//! [proposal]: with a flat diffuse floor the centroid would *rise* with size (wide high modes
+//! proposal: with a flat diffuse floor the centroid would *rise* with size (wide high modes
 //! dominate), against the seeds' observation that the spectrum translates to higher frequencies
 //! when the sheet gets smaller (T 1949, Fig. 4.16); tying the region to f_low reproduces that
 //! translation (test 5) while keeping Table 4.1's ordering (test 6).
