@@ -259,6 +259,8 @@ impl Renderer {
         };
         let scene = Scene::default();
         let mix = MixLevels::default();
+        // Above 88 kHz the voices play at a half or a quarter of the rate (`voice_bus`).
+        let decimation = sounddb::unit_decimation(rate);
         let mut r = Self {
             sample_rate_hz: rate,
             db_usable: db.matches_rate(rate),
@@ -277,11 +279,11 @@ impl Renderer {
             tear_ear_gain: [GainSmoother::new(1.0, rate); 2],
             tear_tip: [0.0; 3],
             opts: RenderOptions::default(),
-            voices: VoicePool::new(rate / sounddb::unit_decimation(rate) as f64, seed),
-            voice_bus: VoiceBus::new(sounddb::unit_decimation(rate)),
+            voices: VoicePool::new(rate / decimation as f64, seed),
+            voice_bus: VoiceBus::new(decimation),
             friction: Friction::new(rate, seed),
             tear: TearNoise::new(rate, seed, TearSettings::default()),
-            bus: std::array::from_fn(|_| vec![0.0; MAX_CHUNK * sounddb::unit_decimation(rate)]),
+            bus: std::array::from_fn(|_| vec![0.0; MAX_CHUNK * decimation]),
             clock: 0,
             batch: 0,
             last_frame_clock: None,

@@ -167,8 +167,8 @@ impl Resampler {
     }
 }
 
-/// Zeroth-order modified Bessel function of the first kind (series).
-fn bessel_i0(x: f64) -> f64 {
+/// Zeroth-order modified Bessel function of the first kind (series), for Kaiser windows.
+pub fn bessel_i0(x: f64) -> f64 {
     let mut sum = 1.0;
     let mut term = 1.0;
     let q = x * x / 4.0;

@@ -37,6 +37,8 @@
 //! When the filter's history and the new samples are all exactly zero, the output is zero
 //! without any arithmetic (an idle voice pool costs nothing here).
 
+use sounddb::resample::bessel_i0;
+
 use super::voice_pool::MAX_CHUNK;
 
 /// Prototype taps per phase (K).
@@ -47,21 +49,6 @@ pub const KAISER_BETA: f64 = 8.0;
 pub const MAX_FACTOR: usize = 4;
 /// Unit-rate samples rendered at most per host chunk.
 const MAX_LOW: usize = MAX_CHUNK + 1;
-
-/// Modified Bessel function of the first kind, order 0 (power series).
-fn bessel_i0(x: f64) -> f64 {
-    let mut sum = 1.0;
-    let mut term = 1.0;
-    let q = x * x / 4.0;
-    for k in 1..64 {
-        term *= q / (k * k) as f64;
-        sum += term;
-        if term < sum * 1e-17 {
-            break;
-        }
-    }
-    sum
-}
 
 /// The polyphase coefficients of an interpolation by `factor`, each phase reversed (so a phase
 /// is a dot product with the history in time order) and scaled to sum to 1.
@@ -190,12 +177,13 @@ impl VoiceBus {
         }
         // The samples made beyond the previous chunk come first.
         let from_pending = self.num_pending.min(n);
-        for e in 0..2 {
-            let out = if e == 0 { &mut *out_l } else { &mut *out_r };
-            out[..from_pending].copy_from_slice(&self.pending[e][..from_pending]);
+        for (out, pending) in [&mut *out_l, &mut *out_r]
+            .into_iter()
+            .zip(&mut self.pending)
+        {
+            out[..from_pending].copy_from_slice(&pending[..from_pending]);
+            pending.copy_within(from_pending.., 0);
         }
-        self.pending[0].copy_within(from_pending.., 0);
-        self.pending[1].copy_within(from_pending.., 0);
         self.num_pending -= from_pending;
         let rest = n - from_pending;
         if rest == 0 {
@@ -211,9 +199,8 @@ impl VoiceBus {
         let silent = self.history_silent
             && wl[H..H + m].iter().all(|v| *v == 0.0)
             && wr[H..H + m].iter().all(|v| *v == 0.0);
-        for e in 0..2 {
-            let out = if e == 0 { &mut *out_l } else { &mut *out_r };
-            let work = &self.work[e];
+        let outs = [&mut *out_l, &mut *out_r];
+        for ((out, work), pending) in outs.into_iter().zip(&self.work).zip(&mut self.pending) {
             let mut k = from_pending;
             for q in 0..m {
                 // work[q + K − 1] is x[q]; the phases are reversed.
@@ -223,7 +210,7 @@ impl VoiceBus {
                     if k < n {
                         out[k] = y;
                     } else {
-                        self.pending[e][k - n] = y;
+                        pending[k - n] = y;
                     }
                     k += 1;
                 }
