@@ -12,7 +12,7 @@
 //! 3. After criterion, a **block-time table**: 10 s of the full scene per configuration, every
 //!    `render()` call timed; prints the mean real-time ratio and the p99 / max block time as a
 //!    fraction of the block deadline (block / fs), as a Markdown table for docs/benchmarks.md.
-//!    Skipped in criterion's `--test` mode.
+//!    Skipped in criterion's `--test` mode; `RENDER_TABLE=96:64` (kHz:block) runs one row only.
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -221,9 +221,21 @@ fn block_time_table() {
         "| rate | block | wall cost (× real time) | CPU cost (× real time) | p99 block / deadline | max block / deadline | voices (mean) |"
     );
     println!("|---|---|---|---|---|---|---|");
+    // `RENDER_TABLE=96:64` measures one configuration only (kHz:block), e.g. under `perf`.
+    let only = std::env::var("RENDER_TABLE").ok();
+    let wanted = |rate: f64, block: usize| {
+        only.as_deref()
+            .is_none_or(|o| o == format!("{}:{block}", rate / 1000.0))
+    };
     for rate in RATES {
+        if !BLOCKS.iter().any(|&b| wanted(rate, b)) {
+            continue;
+        }
         let db = default_db(rate);
         for block in BLOCKS {
+            if !wanted(rate, block) {
+                continue;
+            }
             let mut s = Scenario::new(rate, db.clone());
             let mut l = vec![0.0f32; block];
             let mut r = vec![0.0f32; block];
