@@ -274,6 +274,21 @@ impl GestureParam {
         }
     }
 
+    /// False for the tear and pull gestures: stored (parameters, automation, saved projects)
+    /// but without effect on the sheet in this build — tearing is a later issue
+    /// (`gesture_rig.rs`, "Rate limits"). The editor marks them so (tested in `sim.rs`:
+    /// changing one of them leaves the sheet bit-identical, changing any other moves it).
+    pub const fn moves_the_sheet(self) -> bool {
+        !matches!(
+            self,
+            GestureParam::TearAmount
+                | GestureParam::TearSteer
+                | GestureParam::TearPosition
+                | GestureParam::PullSeparation
+                | GestureParam::PullAsymmetry
+        )
+    }
+
     /// True for the bipolar gestures whose MIDI CC value 64 means "centre".
     pub const fn is_bipolar(self) -> bool {
         matches!(

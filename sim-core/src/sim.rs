@@ -1272,6 +1272,43 @@ mod tests {
         assert!(sim.sheet.sp.vel.iter().all(|u| *u == V3::zeros()));
     }
 
+    /// [`GestureParam::moves_the_sheet`] says what the gestures do: from a sheet held by its
+    /// front edge and shaking, setting a gesture to a value other than its default moves the
+    /// sheet, except the tear and pull gestures, which leave it bit-identical.
+    #[test]
+    fn only_the_gestures_that_move_the_sheet_change_it() {
+        let play = |change: Option<GestureParam>| {
+            let mut sim = Sim::new(SimConfig::default());
+            let mut out = FrameOutput::default();
+            sim.apply(Command::Grab {
+                slot: GrabSlot::Front,
+                grip: 1.0,
+            });
+            sim.apply(Command::Gesture {
+                param: GestureParam::ShakeDepth,
+                value: 0.3,
+            });
+            if let Some(g) = change {
+                let (lo, hi) = g.range();
+                let value = if g == GestureParam::ShakeDepth {
+                    0.8
+                } else {
+                    lo + 0.8 * (hi - lo)
+                };
+                assert_ne!(value, g.default_value());
+                sim.apply(Command::Gesture { param: g, value });
+            }
+            for _ in 0..60 {
+                sim.step(&mut out);
+            }
+            crate::scenario_run::state_hash(&sim)
+        };
+        let base = play(None);
+        for g in GestureParam::ALL {
+            assert_eq!(play(Some(g)) != base, g.moves_the_sheet(), "{}", g.id());
+        }
+    }
+
     #[test]
     fn held_front_edge_follows_lift() {
         let mut sim = Sim::new(SimConfig::default());
