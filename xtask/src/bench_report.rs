@@ -1,7 +1,9 @@
-//! `cargo xtask bench-report [--quick] [--reps N]`: the simulation's run time against its
-//! length error, written into `docs/benchmarks.md` (only between the markers
+//! `cargo xtask bench-report [--quick] [--reps N] [--plot-only]`: the simulation's run time
+//! against its length error, written into `docs/benchmarks.md` (only between the markers
 //! `<!-- sim-report:begin -->` and `<!-- sim-report:end -->`) and plotted into
-//! `docs/benchmarks/sim_frontier.png`.
+//! `docs/benchmarks/sim_frontier.png`, its points labelled where no label covers another
+//! ([`label_layout`]; the rest numbered in a key). `--plot-only` draws the plots again from the
+//! last report's `docs/benchmarks/sim_frontier.csv` ([`replot`]) without measuring.
 //!
 //! Every configuration plays the whole seed scenario library (`sim_core::scenario`) in this
 //! process (release build). The time of each `Sim::step` is measured with the wall clock; a
@@ -24,6 +26,9 @@
 //! Sweeps: Newton substeps × iterations, XPBD substeps, mesh density, stretching-stiffness
 //! scaling; a fine fixed mesh (~1 600 triangles, the seeds' "standard FEM" column of TOG
 //! Table II); and the cost against the triangle count (fitted exponent, the seeds' ≈ N^1.9).
+
+mod label_layout;
+mod replot;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -505,11 +510,13 @@ fn log_slope(points: &[(f64, f64)]) -> f64 {
 /// Runs the subcommand.
 pub fn run(args: &[String]) -> anyhow::Result<()> {
     let mut quick = false;
+    let mut plot_only = false;
     let mut reps: Option<usize> = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
             "--quick" => quick = true,
+            "--plot-only" => plot_only = true,
             "--reps" => {
                 reps = Some(
                     it.next()
@@ -519,11 +526,11 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                 )
             }
             "-h" | "--help" => {
-                println!("usage: cargo xtask bench-report [--quick] [--reps N]");
+                println!("usage: cargo xtask bench-report [--quick] [--reps N] [--plot-only]");
                 return Ok(());
             }
             other => bail!(
-                "unknown argument {other:?} (usage: cargo xtask bench-report [--quick] [--reps N])"
+                "unknown argument {other:?} (usage: cargo xtask bench-report [--quick] [--reps N] [--plot-only])"
             ),
         }
     }
@@ -532,6 +539,20 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
         .parent()
         .context("workspace root")?
         .to_path_buf();
+    if plot_only {
+        let dir = root.join("docs/benchmarks");
+        let (png, png_scenes) = (
+            dir.join("sim_frontier.png"),
+            dir.join("sim_frontier_scenarios.png"),
+        );
+        replot::replot(&dir.join("sim_frontier.csv"), &png, &png_scenes)?;
+        println!(
+            "wrote {} and {} from the last report's CSV",
+            png.display(),
+            png_scenes.display()
+        );
+        return Ok(());
+    }
     let names: Vec<&'static str> = scenario::names().collect();
     let command = format!(
         "cargo xtask bench-report{}{}",
@@ -1380,13 +1401,100 @@ fn plot(
         .y_label_formatter(&tick)
         .draw()?;
     for &(x, y, r) in &pts {
+        chart.draw_series(std::iter::once(Circle::new((x, y), 6, colour(r).filled())))?;
+    }
+    // Labels where they cover no other label and no point (`label_layout`), in the report's
+    // order (the default configuration first); a set-off label gets a leader line, and one
+    // with no free place a number and a line in the key.
+    let font = ("sans-serif", 12);
+    let px: Vec<(i32, i32)> = pts
+        .iter()
+        .map(|&(x, y, _)| chart.backend_coord(&(x, y)))
+        .collect();
+    let sizes: Vec<(i32, i32)> = pts
+        .iter()
+        .map(|&(_, _, r)| {
+            let (w, h) = left.estimate_text_size(&r.variant.label, &font.into_text_style(&left))?;
+            Ok(((w as f64 * 1.06) as i32 + 4, h as i32 + 2))
+        })
+        .collect::<Result<_, DrawingAreaErrorKind<_>>>()?;
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let bounds = label_layout::Rect {
+        x: xr.start,
+        y: yr.start,
+        w: xr.end - xr.start,
+        h: yr.end - yr.start,
+    };
+    // The legend's corner (upper right; 7 entries).
+    let legend = label_layout::Rect {
+        x: xr.end - 200,
+        y: yr.start,
+        w: 200,
+        h: 7 * 20 + 20,
+    };
+    // The key's corner (lower right), kept clear for as many lines as the labels left out.
+    let key_area = |lines: i32| label_layout::Rect {
+        x: xr.end - 340,
+        y: yr.end - lines * 16 - 8,
+        w: 340,
+        h: lines * 16 + 8,
+    };
+    let mut lines = 1;
+    let spots = loop {
+        let spots = label_layout::place_labels(&px, &sizes, 6, bounds, &[legend, key_area(lines)]);
+        let left_out = spots.iter().filter(|s| s.is_none()).count() as i32;
+        if left_out <= lines || lines >= 12 {
+            break spots;
+        }
+        lines = left_out;
+    };
+    let mut key: Vec<(usize, &VariantResult)> = Vec::new();
+    for (i, (&(x, y, r), spot)) in pts.iter().zip(&spots).enumerate() {
         let c = colour(r);
-        chart.draw_series(std::iter::once(Circle::new((x, y), 6, c.filled())))?;
-        chart.draw_series(std::iter::once(Text::new(
-            r.variant.label.clone(),
-            (x * 1.04, y * 1.04),
-            ("sans-serif", 12).into_font().color(&c),
-        )))?;
+        let (cx, cy) = px[i];
+        match *spot {
+            Some((lx, ly)) => {
+                let (w, h) = sizes[i];
+                // Leader line from the point to the label's nearer edge, when set off.
+                let ex = (cx.clamp(lx, lx + w), cy.clamp(ly, ly + h));
+                if (ex.0 - cx).pow(2) + (ex.1 - cy).pow(2) > 14 * 14 {
+                    chart.draw_series(std::iter::once(
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(0, 0), (ex.0 - cx, ex.1 - cy)], c.mix(0.45)),
+                    ))?;
+                }
+                chart.draw_series(std::iter::once(
+                    EmptyElement::at((x, y))
+                        + Text::new(
+                            r.variant.label.clone(),
+                            (lx - cx + 1, ly - cy + 1),
+                            font.into_font().color(&c),
+                        ),
+                ))?;
+            }
+            None => {
+                key.push((i, r));
+                chart.draw_series(std::iter::once(
+                    EmptyElement::at((x, y))
+                        + Text::new(
+                            format!("{}", key.len()),
+                            (5, -16),
+                            ("sans-serif", 11).into_font().color(&c),
+                        ),
+                ))?;
+            }
+        }
+    }
+    // The key of the numbered points, at the plot's lower right.
+    for (k, (_, r)) in key.iter().enumerate() {
+        let line = format!("{}: {}", k + 1, r.variant.label);
+        let (w, _) = left.estimate_text_size(&line, &font.into_text_style(&left))?;
+        let y = yr.end - 16 * (key.len() - k) as i32 - 4;
+        left.draw(&Text::new(
+            line,
+            (xr.end - w as i32 - 8, y),
+            font.into_font().color(&colour(r)),
+        ))?;
     }
     for (label, c) in [
         ("Newton + geometry layer", GREEN),
@@ -1450,11 +1558,17 @@ fn plot(
     ))?
     .label(format!("fit N^{exponent:.2}"))
     .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
+    // The seeds' growth leaves the panel at its top: drawn up to there, not along the edge.
+    let y_top = symax * 1.4;
     sc.draw_series(LineSeries::new(
-        (0..=40).map(|i| {
-            let x = sxmin * (sxmax / sxmin).powf(f64::from(i) / 40.0);
-            (x, y0 * (x / x0).powf(1.9))
-        }),
+        (0..=40)
+            .map(|i| {
+                let x = sxmin * (sxmax / sxmin).powf(f64::from(i) / 40.0);
+                (x, y0 * (x / x0).powf(1.9))
+            })
+            .take_while(|&(_, y)| y <= y_top)
+            .chain(std::iter::once((x0 * (y_top / y0).powf(1.0 / 1.9), y_top)))
+            .filter(|&(x, _)| x <= sxmax * 1.25),
         &RED,
     ))?
     .label("seeds' N^1.9 (same start)")

@@ -5,7 +5,8 @@
 //! - `cargo xtask demo`: the README's main job (bundles, standalone, demo render);
 //! - `cargo xtask test`: the README's test command (everything CI runs);
 //! - `cargo xtask sounddb …`: generate or import a sound database;
-//! - `cargo xtask bench-report`: run the benchmark report and update `docs/benchmarks.md`.
+//! - `cargo xtask bench-report`: run the benchmark report and update `docs/benchmarks.md`
+//!   (`--plot-only`: draw its plots again from the last report's CSV, measuring nothing).
 
 mod bench_report;
 mod jobs;
