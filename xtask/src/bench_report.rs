@@ -1338,6 +1338,8 @@ fn plot_scenarios(
             .build_cartesian_2d(xs.log_scale(), ys.log_scale())?;
         chart
             .configure_mesh()
+            .x_labels(5)
+            .y_labels(5)
             .x_desc("median ms")
             .y_desc("c_mean %")
             .x_label_formatter(&tick)
