@@ -69,7 +69,10 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let cases: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(2000);
     let seed: u64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1);
-    let scene = args.get(2).cloned().unwrap_or_else(|| "c5_full_crumple".into());
+    let scene = args
+        .get(2)
+        .cloned()
+        .unwrap_or_else(|| "c5_full_crumple".into());
     let frames: u64 = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(250);
     let script = scenario::get(&scene).expect("scene");
     let base = SimConfig::default();
@@ -96,7 +99,13 @@ fn main() {
             for _ in 0..20 {
                 s.step(&mut out);
             }
-            Some(s.sheet().sp.pos.iter().all(|p| p.iter().all(|c| c.is_finite())))
+            Some(
+                s.sheet()
+                    .sp
+                    .pos
+                    .iter()
+                    .all(|p| p.iter().all(|c| c.is_finite())),
+            )
         }));
         match r {
             Err(_) => {
