@@ -8,8 +8,20 @@
 //!
 //! The generator is deterministic and fast without optimisation (about 1.2 s at `opt-level = 0`
 //! on the 2-core CI machine), so the build script costs the same in every profile.
+//!
+//! ## One prepared copy per sample rate in a process
+//!
+//! Decoding the pack and preparing it for a rate takes a noticeable moment (resampling the
+//! units when the rate is not 44.1 kHz) and the prepared database holds megabytes of samples.
+//! A host that runs several Papier instances loads the plugin's library once, so
+//! [`default_db`] keeps the prepared database of each rate while any instance (or renderer)
+//! still holds it — a weak reference in a process-wide table — and hands the same `Arc` to
+//! every instance at that rate: the second and later instances start at once and share the
+//! memory. The database is a pure function of the pack and the rate, so sharing it changes no
+//! sample. Once the last holder drops it, the next call prepares it again. The table is locked
+//! only here, never on the audio thread.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, Weak};
 
 use sounddb::{Database, DbError, SoundDb, Warning};
 
@@ -29,11 +41,36 @@ pub fn embedded_database() -> Result<(Database, Vec<Warning>), DbError> {
 /// of milliseconds (resampling when the rate is not 44.1 kHz): call it off the audio thread. If
 /// the embedded pack could not be read (it is validated by the tests, so this should not happen)
 /// the empty database is returned and the plugin stays silent rather than failing.
+///
+/// The same `Arc` is returned for the same rate while one is alive (module doc, "One prepared
+/// copy per sample rate in a process").
 pub fn default_db(sample_rate_hz: f64) -> Arc<SoundDb> {
-    match embedded_database() {
+    /// Prepared databases by the bits of their rate, held weakly.
+    static PREPARED: Mutex<Vec<(u64, Weak<SoundDb>)>> = Mutex::new(Vec::new());
+    let key = sample_rate_hz.to_bits();
+    // The table is locked only to look up and to insert, not while preparing, so that two
+    // rates never wait for each other. A panic elsewhere while it was held leaves it usable.
+    let lookup = |table: &mut Vec<(u64, Weak<SoundDb>)>| {
+        table.retain(|(_, w)| w.strong_count() > 0);
+        table
+            .iter()
+            .find(|(k, _)| *k == key)
+            .and_then(|(_, w)| w.upgrade())
+    };
+    if let Some(db) = lookup(&mut PREPARED.lock().unwrap_or_else(|e| e.into_inner())) {
+        return db;
+    }
+    let db = match embedded_database() {
         Ok((db, _warnings)) => Arc::new(SoundDb::prepare(&db, sample_rate_hz)),
         Err(_) => Arc::new(SoundDb::empty()),
+    };
+    let mut table = PREPARED.lock().unwrap_or_else(|e| e.into_inner());
+    // Another caller may have prepared the same rate meanwhile: theirs is kept, equal to ours.
+    if let Some(shared) = lookup(&mut table) {
+        return shared;
     }
+    table.push((key, Arc::downgrade(&db)));
+    db
 }
 
 #[cfg(test)]
@@ -48,5 +85,28 @@ mod tests {
         assert_eq!(db.units.len(), 249);
         assert_eq!(db.spectra.len(), 82);
         assert!(PACK.len() <= 12 * 1024 * 1024);
+    }
+
+    #[test]
+    fn instances_at_one_rate_share_the_prepared_database_while_it_is_held() {
+        // A rate no other test of this binary uses, so the shared table starts without it.
+        let rate = 47_999.0;
+        let a = default_db(rate);
+        let b = default_db(rate);
+        assert!(Arc::ptr_eq(&a, &b), "the same rate shares one copy");
+        assert!(a.matches_rate(rate));
+        let other = default_db(44_101.0);
+        assert!(!Arc::ptr_eq(&a, &other), "another rate has its own");
+        assert!(other.matches_rate(44_101.0));
+        // Dropped by every holder, it is prepared again, equal to the first copy.
+        let weak = Arc::downgrade(&a);
+        let (units, bytes) = (a.num_units(), a.memory_bytes());
+        drop((a, b));
+        assert!(
+            weak.upgrade().is_none(),
+            "nothing keeps a dropped copy alive"
+        );
+        let c = default_db(rate);
+        assert_eq!((c.num_units(), c.memory_bytes()), (units, bytes));
     }
 }
