@@ -779,13 +779,7 @@ fn off_line(d: V2, h: f64) -> V2 {
 pub fn sync_sg_singular(sg: &mut GeomStructure, sp: &PhysMesh) {
     sg.vertices.retain(|v| v.kind != VKind::InteriorSingular);
     for &v in &sp.singular {
-        sg.vertices.push(GVertex {
-            p2: sp.pattern[v as usize],
-            p3: sp.pos[v as usize],
-            kind: VKind::InteriorSingular,
-            bound_s_m: None,
-            sp_index: v,
-        });
+        sg.vertices.push(GVertex::interior_singular(sp, v));
     }
 }
 

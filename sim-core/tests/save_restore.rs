@@ -361,7 +361,7 @@ fn random_json_mutations_never_panic() {
     for _ in 0..300 {
         let mut v = value.clone();
         for _ in 0..rng.random_range(1..4u32) {
-            mutate(&mut v, &mut rng);
+            common::json_mutation::mutate(&mut v, &mut rng);
         }
         if let Ok(saved) = serde_json::from_value::<SavedSheet>(v)
             && let Ok(mut s) = Sim::restore(SimConfig::default(), &saved)
@@ -375,35 +375,4 @@ fn random_json_mutations_never_panic() {
         }
     }
     assert!(accepted < 300, "some mutations must be rejected");
-}
-
-/// Replaces a random leaf of a JSON value by a hostile value, or truncates an array.
-fn mutate(v: &mut serde_json::Value, rng: &mut rand_pcg::Pcg32) {
-    use serde_json::Value;
-    match v {
-        Value::Object(m) if !m.is_empty() => {
-            let k = rng.random_range(0..m.len());
-            let key = m.keys().nth(k).unwrap().clone();
-            mutate(m.get_mut(&key).unwrap(), rng);
-        }
-        Value::Array(a) if !a.is_empty() => {
-            if rng.random_range(0..6u32) == 0 {
-                let n = rng.random_range(0..a.len());
-                a.truncate(n);
-            } else {
-                let i = rng.random_range(0..a.len());
-                mutate(&mut a[i], rng);
-            }
-        }
-        _ => {
-            *v = match rng.random_range(0..6u32) {
-                0 => Value::from(1e300),
-                1 => Value::from(-1),
-                2 => Value::from(0),
-                3 => Value::from(u64::MAX),
-                4 => Value::from("x"),
-                _ => Value::Null,
-            };
-        }
-    }
 }

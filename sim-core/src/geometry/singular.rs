@@ -149,13 +149,7 @@ impl GeometryLayer {
         }
         sp.singular.push(v);
         self.push_singular(sp, v, sampled2, frame, case);
-        sg.vertices.push(GVertex {
-            p2: sp.pattern[v as usize],
-            p3: sp.pos[v as usize],
-            kind: VKind::InteriorSingular,
-            bound_s_m: None,
-            sp_index: v,
-        });
+        sg.vertices.push(GVertex::interior_singular(sp, v));
         let idx = self.out.singular.len() as u32 - 1;
         self.out.push_event(ShapeEvent::SingularCreated {
             singular: idx,

@@ -67,6 +67,20 @@ pub struct GVertex {
     pub sp_index: u32,
 }
 
+impl GVertex {
+    /// The S_G vertex of S_P's singular vertex `v`: its pattern and 3D position, no boundary
+    /// parameter.
+    pub fn interior_singular(sp: &PhysMesh, v: u32) -> Self {
+        GVertex {
+            p2: sp.pattern[v as usize],
+            p3: sp.pos[v as usize],
+            kind: VKind::InteriorSingular,
+            bound_s_m: None,
+            sp_index: v,
+        }
+    }
+}
+
 /// The geometric structure S_G.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct GeomStructure {

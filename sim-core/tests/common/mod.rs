@@ -3,6 +3,8 @@
 // Each test crate compiles this module and uses only some of it.
 #![allow(dead_code)]
 
+pub mod json_mutation;
+
 use sim_core::sim::{SavedSheet, Sim, SimConfig};
 use sim_core::stress::StressFixture;
 
