@@ -467,11 +467,9 @@ impl Renderer {
             fr,
             &mut self.counters,
         );
-        if self.tear.render(tm, self.opts.skip_idle_tear) {
-            self.counters.tear_samples += n as u64;
-        } else {
-            self.counters.tear_samples_skipped += n as u64;
-        }
+        let ran = self.tear.render(tm, self.opts.skip_idle_tear) as u64;
+        self.counters.tear_samples += ran;
+        self.counters.tear_samples_skipped += n as u64 - ran;
         let [gc, gf, gt, go] = &mut self.gains;
         let [tl, tr] = &mut self.tear_ear_gain;
         let (mut clipped, mut nonfinite) = (0u64, 0u64);

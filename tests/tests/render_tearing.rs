@@ -90,6 +90,61 @@ fn s1_silence_when_the_tear_stops() {
     );
 }
 
+/// Plays tears that start and stop with frames at the simulation's 200 Hz on a 44.1 kHz clock
+/// (220 and 221 samples alternately, as `FrameClock` delivers them), each frame's samples split
+/// into calls of the sizes `split` cycles through.
+fn stop_and_go(split: &[usize]) -> ((Vec<f32>, Vec<f32>), u64) {
+    let rate = 44_100.0;
+    let mut r = Renderer::new(rate, printer_db(rate), 3);
+    r.set_mix(MixLevels::default());
+    r.set_scene(anechoic());
+    let (mut l, mut rr) = (Vec::new(), Vec::new());
+    let mut k = 0;
+    for i in 0..120u64 {
+        let speed = if (i / 15) % 2 == 0 { 0.06 } else { 0.0 };
+        r.set_frame(&frame(i, &[], speed));
+        let mut left = 220 + (i % 2) as usize;
+        while left > 0 {
+            let m = split[k % split.len()].min(left);
+            k += 1;
+            let (a, b) = render(&mut r, m, m);
+            l.extend(a);
+            rr.extend(b);
+            left -= m;
+        }
+    }
+    ((l, rr), r.counters().tear_samples)
+}
+
+#[test]
+fn where_a_tear_stops_does_not_depend_on_the_host_blocks() {
+    // The speed ramps over the last frame interval, so after a 220-sample interval it lands one
+    // sample before a 221-sample frame ends. Whether the host's block ends there must not decide
+    // whether the generator runs for that sample: else the next tear's grains differ.
+    let (whole, ran) = stop_and_go(&[512]);
+    assert!(rms(&whole.0) > 0.0);
+    for split in [&[1usize][..], &[64], &[7, 100, 3]] {
+        let (x, ran_x) = stop_and_go(split);
+        assert_same(&whole, &x);
+        assert_eq!(ran, ran_x, "{split:?}: the generator ran for other samples");
+    }
+}
+
+#[test]
+fn a_sheet_that_does_not_tear_never_runs_the_generator() {
+    // Every frame sets the tear speed, 0 when the sheet does not tear: the generator stays idle.
+    let rate = 48_000.0;
+    let mut r = Renderer::new(rate, printer_db(rate), 1);
+    r.set_mix(MixLevels::default());
+    r.set_scene(anechoic());
+    for i in 0..100 {
+        r.set_frame(&frame(i, &[], 0.0));
+        let _ = render(&mut r, 240, 64);
+    }
+    assert_eq!(r.counters().tear_samples, 0);
+    assert_eq!(r.counters().tear_samples_skipped, 24_000);
+}
+
 #[test]
 fn s2_doubling_the_speed_doubles_the_rms() {
     // Pitch held (ρ = 1 above the pitch reference), 2 s each.

@@ -81,9 +81,15 @@ pub struct LinearRamp {
 }
 
 impl LinearRamp {
-    /// Starts a ramp from the current value to `target` over `samples` samples (≥ 1).
+    /// Starts a ramp from the current value to `target` over `samples` samples (≥ 1). A target
+    /// equal to the current value leaves the ramp steady there (a ramp from x to x would hold x
+    /// anyway; steady, a consumer that skips work on a steady value skips it now).
     pub fn set_target(&mut self, target: f32, samples: u32) {
         let target = if target.is_finite() { target } else { 0.0 };
+        if target == self.current {
+            self.reset(target);
+            return;
+        }
         let samples = samples.max(1);
         self.target = target;
         self.step = (target - self.current) / samples as f32;
@@ -163,5 +169,19 @@ mod tests {
         }
         assert_eq!(r.value(), 0.0);
         assert!(r.is_steady());
+    }
+
+    #[test]
+    fn a_target_equal_to_the_value_is_steady_at_once() {
+        let mut r = LinearRamp::default();
+        r.set_target(0.0, 100);
+        assert!(r.is_steady());
+        r.set_target(1.0, 4);
+        r.tick();
+        // Mid-ramp, the current value as the target: steady there, no further step.
+        let here = r.value();
+        r.set_target(here, 4);
+        assert!(r.is_steady());
+        assert_eq!(r.tick(), here);
     }
 }

@@ -27,7 +27,13 @@
 //!   make-up gain: the crest factor is ≈ 28 dB, the mix level sets loudness.
 //! - The speed comes once per simulation frame and is **linearly interpolated** across the frame
 //!   (`super::smoothing::LinearRamp`), so there is no zipper; it lands exactly on 0 when tearing
-//!   stops, and then the generator does not run at all (§11.3, counted).
+//!   stops, and then the generator does not run at all (§11.3, counted). That is decided per
+//!   sample, not per `render` call: where the host's blocks end must not decide for how many
+//!   samples the generator ran, or the next tear would draw other grains (found by the
+//!   damaged-input run of `tests/tests/bad_input_files.rs`: a frame log at 44.1 kHz, whose
+//!   frames come 220 and 221 samples apart, rendered differently in blocks of 64 and 333).
+//!   A frame that sets the speed it already has (0, every frame of a sheet that does not tear)
+//!   leaves the generator idle.
 //! - **Denormal safety** (digest-tearing §3.2): r^α underflows f32 for most r (r^100 is subnormal
 //!   for r ∈ (0.356, 0.418)). Grains with r^α < 10⁻⁶ (r < 0.871 at α = 100) are exactly 0 — they
 //!   carry 6·10⁻¹³ of the energy — and r^α = exp(α ln r) is computed only above that gate.
@@ -174,14 +180,20 @@ impl TearNoise {
         }
     }
 
-    /// Renders `out.len()` mono samples (overwrites). Returns false (and writes zeros without
-    /// running the generator) when idle and `skip_idle`.
-    pub fn render(&mut self, out: &mut [f32], skip_idle: bool) -> bool {
-        if skip_idle && self.is_idle() {
-            out.fill(0.0);
-            return false;
-        }
-        for o in out.iter_mut() {
+    /// Renders `out.len()` mono samples (overwrites). With `skip_idle`, a sample at which the
+    /// generator is idle (speed steady at 0) is a zero and the generator does not run: it is
+    /// decided per sample, so where a tear stops does not depend on how the host splits its
+    /// blocks, nor, therefore, do the grains of the next tear. Returns how many samples the
+    /// generator ran for.
+    pub fn render(&mut self, out: &mut [f32], skip_idle: bool) -> usize {
+        let mut ran = 0;
+        for k in 0..out.len() {
+            if skip_idle && self.is_idle() {
+                // Idle stays idle until the next `set_speed`, i.e. for the rest of this call.
+                out[k..].fill(0.0);
+                break;
+            }
+            ran += 1;
             let v = self.speed.tick();
             if self.n >= self.next_pos {
                 // Reached the next grain: it becomes the previous one; draw a new next grain.
@@ -196,10 +208,10 @@ impl TearNoise {
                     (self.next_val - self.prev_val) / (self.next_pos - self.prev_pos) as f32;
             }
             let y = self.prev_val + self.slope * (self.n - self.prev_pos) as f32;
-            *o = y * (v / TEAR_AMP_REF_SPEED_M_S);
+            out[k] = y * (v / TEAR_AMP_REF_SPEED_M_S);
             self.n += 1;
         }
-        true
+        ran
     }
 }
 
@@ -226,13 +238,17 @@ mod tests {
     fn idle_generator_is_skipped_and_silent() {
         let mut t = TearNoise::new(48_000.0, 1, TearSettings::default());
         let mut out = vec![1.0f32; 64];
-        assert!(!t.render(&mut out, true));
+        assert_eq!(t.render(&mut out, true), 0);
         assert!(out.iter().all(|&v| v == 0.0));
-        t.set_speed(0.2, 10);
-        assert!(t.render(&mut out, true));
+        // A speed of 0 set again (every frame of a sheet that does not tear) stays idle.
         t.set_speed(0.0, 10);
-        t.render(&mut out, true);
         assert!(t.is_idle());
-        assert_eq!(out[63], 0.0);
+        t.set_speed(0.2, 10);
+        assert_eq!(t.render(&mut out, true), 64);
+        t.set_speed(0.0, 10);
+        // The ramp lands on 0 after 10 samples; the generator stops there, within the call.
+        assert_eq!(t.render(&mut out, true), 10);
+        assert!(t.is_idle());
+        assert!(out[10..].iter().all(|&v| v == 0.0));
     }
 }
