@@ -38,6 +38,7 @@ pub mod messages;
 pub mod meters;
 pub mod param_values;
 pub mod view;
+pub mod volume_changes;
 pub mod worker;
 
 use std::collections::VecDeque;
@@ -57,6 +58,7 @@ pub use self::meters::Meters;
 pub use self::param_values::{ParamError, ParamValues};
 use self::view::ViewPublisher;
 pub use self::view::{ViewFrame, ViewShared};
+use self::volume_changes::VolumeChanges;
 use self::worker::{WorkerHandle, WorkerShared, WorkerState};
 use crate::gesture_map::{self, Action, MidiInput};
 use crate::render::{MixLevels, Renderer, Scene};
@@ -125,6 +127,8 @@ pub struct Engine {
     frames: FrameClock,
     last: ParamValues,
     midi_volume: f32,
+    /// MIDI volume changes not yet reached, each at its sample ([`volume_changes`]).
+    volume_changes: VolumeChanges,
     renderer: Renderer,
     store: Arc<SheetStore>,
     store_generation: u64,
@@ -224,6 +228,7 @@ impl Engine {
             frames,
             last: *params,
             midi_volume: 1.0,
+            volume_changes: VolumeChanges::default(),
             renderer,
             store,
             store_generation,
@@ -389,19 +394,43 @@ impl Engine {
         match gesture_map::map(input) {
             Action::None => {}
             Action::Sim(cmd) => self.command(at, cmd),
-            Action::Volume(v) => {
-                self.midi_volume = v;
-                self.renderer.set_mix(mix_levels(&self.last, v));
-            }
+            Action::Volume(v) => self.volume_at(at, v),
             Action::ResetControllers => {
                 for g in GestureParam::ALL {
                     let value = self.last.gestures[g.index()];
                     self.command(at, Command::Gesture { param: g, value });
                 }
-                self.midi_volume = 1.0;
-                self.renderer.set_mix(mix_levels(&self.last, 1.0));
+                self.volume_at(at, 1.0);
             }
         }
+    }
+
+    /// The MIDI volume becomes `gain` at sample `at` (queued; [`Self::render`] applies it there).
+    fn volume_at(&mut self, at: u64, gain: f32) {
+        if let Some(early) = self.volume_changes.push(at, gain) {
+            Self::set_midi_volume(&mut self.renderer, &self.last, &mut self.midi_volume, early);
+        }
+    }
+
+    /// Applies the MIDI volume changes due at or before sample `now` and returns the sample the
+    /// current segment must end at for the next one (or `limit`).
+    fn volume_until(
+        changes: &mut VolumeChanges,
+        renderer: &mut Renderer,
+        last: &ParamValues,
+        midi_volume: &mut f32,
+        now: u64,
+        limit: u64,
+    ) -> u64 {
+        if let Some(g) = changes.take_due(now) {
+            Self::set_midi_volume(renderer, last, midi_volume, g);
+        }
+        changes.next_at().map_or(limit, |at| at.min(limit))
+    }
+
+    fn set_midi_volume(renderer: &mut Renderer, last: &ParamValues, midi_volume: &mut f32, g: f32) {
+        *midi_volume = g;
+        renderer.set_mix(mix_levels(last, g));
     }
 
     fn deliver(renderer: &mut Renderer, sound: &SoundFrame, meters: &Meters) {
@@ -489,7 +518,16 @@ impl Engine {
                         }
                         break;
                     }
-                    let seg_end = n.min((end - self.clock) as usize);
+                    let now = self.clock + pos as u64;
+                    let until = Self::volume_until(
+                        &mut self.volume_changes,
+                        &mut self.renderer,
+                        &self.last,
+                        &mut self.midi_volume,
+                        now,
+                        end,
+                    );
+                    let seg_end = n.min((until - self.clock) as usize);
                     self.renderer
                         .render(&mut left[pos..seg_end], &mut right[pos..seg_end]);
                     pos = seg_end;
@@ -512,7 +550,23 @@ impl Engine {
                         }
                     }
                 }
-                self.renderer.render(&mut left[..n], &mut right[..n]);
+                // Split at each MIDI volume change of the block.
+                let mut pos = 0usize;
+                while pos < n {
+                    let now = self.clock + pos as u64;
+                    let until = Self::volume_until(
+                        &mut self.volume_changes,
+                        &mut self.renderer,
+                        &self.last,
+                        &mut self.midi_volume,
+                        now,
+                        self.clock + n as u64,
+                    );
+                    let seg_end = (until - self.clock) as usize;
+                    self.renderer
+                        .render(&mut left[pos..seg_end], &mut right[pos..seg_end]);
+                    pos = seg_end;
+                }
             }
         }
         // Belt and braces: the render path guarantees finite, normal output; never let a NaN,

@@ -1,7 +1,7 @@
 //! The damaged-input run of `tests/bad_input_files.rs`, longer:
 //! `cargo run --release -p papier-tests --example fuzz_inputs -- [CASES] [SEED]` (default 600
 //! cases, seed 1) over every built-in scene's script, MIDI performance and frame log. Prints
-//! each kind's tally; a failing case's input is kept in `target/test-scratch/fuzz_inputs` and
+//! each kind's tally; a failing case's input is kept in `target/test-scratch/fuzz_inputs_SEED` and
 //! the run goes on.
 
 #[path = "../tests/input_mutation/mod.rs"]
@@ -15,7 +15,8 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let cases: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(600);
     let seed: u64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1);
-    let dir = paths::scratch("fuzz_inputs");
+    // One directory per seed, so that runs with other seeds can go side by side.
+    let dir = paths::scratch(&format!("fuzz_inputs_{seed}"));
     let _dbs: Vec<_> = input_mutation::RATES_HZ
         .iter()
         .map(|&r| papier::render::default_db(f64::from(r)))
