@@ -126,9 +126,8 @@ pub struct Engine {
     clock: u64,
     frames: FrameClock,
     last: ParamValues,
-    midi_volume: f32,
-    /// MIDI volume changes not yet reached, each at its sample ([`volume_changes`]).
-    volume_changes: VolumeChanges,
+    /// The MIDI volume and its changes not yet reached, each at its sample ([`volume_changes`]).
+    midi_volume: MidiVolume,
     renderer: Renderer,
     store: Arc<SheetStore>,
     store_generation: u64,
@@ -136,6 +135,35 @@ pub struct Engine {
     host: Host,
     /// Copies of the sound frames delivered in lockstep mode, while recording.
     recorded: Option<Vec<SoundFrame>>,
+}
+
+/// The MIDI volume (linear gain) in effect and its queued changes.
+struct MidiVolume {
+    gain: f32,
+    changes: VolumeChanges,
+}
+
+impl MidiVolume {
+    /// Queues `gain` from sample `at`; a change the full queue gives up takes effect now.
+    fn push(&mut self, at: u64, gain: f32, renderer: &mut Renderer, last: &ParamValues) {
+        if let Some(early) = self.changes.push(at, gain) {
+            self.set(early, renderer, last);
+        }
+    }
+
+    /// Applies the changes due at or before sample `now` and returns the sample the current
+    /// segment must end at for the next one (or `limit`).
+    fn until(&mut self, now: u64, limit: u64, renderer: &mut Renderer, last: &ParamValues) -> u64 {
+        if let Some(g) = self.changes.take_due(now) {
+            self.set(g, renderer, last);
+        }
+        self.changes.next_at().map_or(limit, |at| at.min(limit))
+    }
+
+    fn set(&mut self, gain: f32, renderer: &mut Renderer, last: &ParamValues) {
+        self.gain = gain;
+        renderer.set_mix(mix_levels(last, gain));
+    }
 }
 
 /// The render path's mix for these parameters and a MIDI volume (linear gain).
@@ -227,8 +255,10 @@ impl Engine {
             clock: 0,
             frames,
             last: *params,
-            midi_volume: 1.0,
-            volume_changes: VolumeChanges::default(),
+            midi_volume: MidiVolume {
+                gain: 1.0,
+                changes: VolumeChanges::default(),
+            },
             renderer,
             store,
             store_generation,
@@ -289,7 +319,7 @@ impl Engine {
     /// commands), but the sound must start at the current values, not fade to them.
     /// No allocation.
     pub fn start_sound_at(&mut self, p: &ParamValues) {
-        self.renderer.set_mix(mix_levels(p, self.midi_volume));
+        self.renderer.set_mix(mix_levels(p, self.midi_volume.gain));
         self.renderer.set_scene(scene(p));
         self.renderer.snap_gains();
     }
@@ -383,7 +413,7 @@ impl Engine {
             || p.mix_tear_db != self.last.mix_tear_db
             || p.gain_db != self.last.gain_db
         {
-            self.renderer.set_mix(mix_levels(p, self.midi_volume));
+            self.renderer.set_mix(mix_levels(p, self.midi_volume.gain));
         }
         self.last = *p;
     }
@@ -407,30 +437,8 @@ impl Engine {
 
     /// The MIDI volume becomes `gain` at sample `at` (queued; [`Self::render`] applies it there).
     fn volume_at(&mut self, at: u64, gain: f32) {
-        if let Some(early) = self.volume_changes.push(at, gain) {
-            Self::set_midi_volume(&mut self.renderer, &self.last, &mut self.midi_volume, early);
-        }
-    }
-
-    /// Applies the MIDI volume changes due at or before sample `now` and returns the sample the
-    /// current segment must end at for the next one (or `limit`).
-    fn volume_until(
-        changes: &mut VolumeChanges,
-        renderer: &mut Renderer,
-        last: &ParamValues,
-        midi_volume: &mut f32,
-        now: u64,
-        limit: u64,
-    ) -> u64 {
-        if let Some(g) = changes.take_due(now) {
-            Self::set_midi_volume(renderer, last, midi_volume, g);
-        }
-        changes.next_at().map_or(limit, |at| at.min(limit))
-    }
-
-    fn set_midi_volume(renderer: &mut Renderer, last: &ParamValues, midi_volume: &mut f32, g: f32) {
-        *midi_volume = g;
-        renderer.set_mix(mix_levels(last, g));
+        self.midi_volume
+            .push(at, gain, &mut self.renderer, &self.last);
     }
 
     fn deliver(renderer: &mut Renderer, sound: &SoundFrame, meters: &Meters) {
@@ -519,14 +527,9 @@ impl Engine {
                         break;
                     }
                     let now = self.clock + pos as u64;
-                    let until = Self::volume_until(
-                        &mut self.volume_changes,
-                        &mut self.renderer,
-                        &self.last,
-                        &mut self.midi_volume,
-                        now,
-                        end,
-                    );
+                    let until = self
+                        .midi_volume
+                        .until(now, end, &mut self.renderer, &self.last);
                     let seg_end = n.min((until - self.clock) as usize);
                     self.renderer
                         .render(&mut left[pos..seg_end], &mut right[pos..seg_end]);
@@ -554,13 +557,11 @@ impl Engine {
                 let mut pos = 0usize;
                 while pos < n {
                     let now = self.clock + pos as u64;
-                    let until = Self::volume_until(
-                        &mut self.volume_changes,
-                        &mut self.renderer,
-                        &self.last,
-                        &mut self.midi_volume,
+                    let until = self.midi_volume.until(
                         now,
                         self.clock + n as u64,
+                        &mut self.renderer,
+                        &self.last,
                     );
                     let seg_end = (until - self.clock) as usize;
                     self.renderer

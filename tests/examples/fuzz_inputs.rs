@@ -30,11 +30,7 @@ fn main() {
     for case in 0..cases {
         let base = &bases[case % bases.len()];
         let bytes = mutated(base, &mut rng);
-        let k = match base.kind {
-            Kind::Script => 0,
-            Kind::Midi => 1,
-            Kind::Frames => 2,
-        };
+        let k = base.kind.index();
         match run_case(base.kind, &bytes, &dir, &mut rng) {
             Ok(t) => per_kind[k].add(&t),
             Err(e) => {
@@ -49,7 +45,7 @@ fn main() {
             }
         }
     }
-    for (t, kind) in per_kind.iter().zip(["scripts", "MIDI files", "frame logs"]) {
+    for (t, kind) in per_kind.iter().zip(Kind::ALL.map(|(_, name)| name)) {
         println!(
             "{kind}: {} cases, {} refused, {} played, {} parsed but too long to play",
             t.cases, t.refused, t.played, t.too_long

@@ -35,16 +35,12 @@ fn damaged_scripts_midi_files_and_frame_logs_never_panic() {
                 keep.display()
             )
         });
-        let k = match base.kind {
-            Kind::Script => 0,
-            Kind::Midi => 1,
-            Kind::Frames => 2,
-        };
+        let k = base.kind.index();
         per_kind[k].add(&t);
     }
     // The cases reach both outcomes for every kind of file: edits that are refused and edits
     // that still play (else the test would only exercise the first check of each parser).
-    for (t, kind) in per_kind.iter().zip(["scripts", "MIDI files", "frame logs"]) {
+    for (t, kind) in per_kind.iter().zip(Kind::ALL.map(|(_, name)| name)) {
         eprintln!("{kind}: {t:?}");
         assert!(t.refused > 0, "{kind}: no edit was refused: {t:?}");
         assert!(t.played > 0, "{kind}: no edited input played: {t:?}");

@@ -59,6 +59,24 @@ pub enum Kind {
     Frames,
 }
 
+impl Kind {
+    /// Every kind, in [`Kind::index`] order, with a name for tallies.
+    pub const ALL: [(Kind, &'static str); 3] = [
+        (Kind::Script, "scripts"),
+        (Kind::Midi, "MIDI files"),
+        (Kind::Frames, "frame logs"),
+    ];
+
+    /// Position in [`Kind::ALL`].
+    pub fn index(self) -> usize {
+        match self {
+            Kind::Script => 0,
+            Kind::Midi => 1,
+            Kind::Frames => 2,
+        }
+    }
+}
+
 /// A valid input to start edits from.
 pub struct Base {
     /// What it is.
