@@ -27,6 +27,7 @@ pub mod geometric;
 pub mod pattern;
 pub mod physical;
 pub mod refine;
+pub mod regenerate;
 pub mod topology;
 
 use crate::control::SheetSize;

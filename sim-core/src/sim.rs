@@ -426,6 +426,8 @@ pub struct Sim {
     /// S_P vertices taken out of flat regions
     /// ([`crate::geometry::GeometryConfig::coarsen_flat_regions`]).
     collapsed_vertices: u64,
+    /// S_P regenerations adopted and refused (sim/remesh.rs).
+    regenerations: (u64, u64),
     analysis: SoundAnalysis,
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
@@ -530,6 +532,7 @@ impl Sim {
             flipped_edges: 0,
             cut_strips: 0,
             collapsed_vertices: 0,
+            regenerations: (0, 0),
             analysis,
             proximity: {
                 // Vertices inserted at singular points make pairs of triangles a fraction of an
@@ -700,6 +703,13 @@ impl Sim {
     /// [`Self::inserted_vertices`] is).
     pub fn collapsed_vertices(&self) -> u64 {
         self.collapsed_vertices
+    }
+
+    /// Times S_P was regenerated from S_G, and times a regeneration was refused, in the
+    /// current sheet ([`crate::geometry::GeometryConfig::regenerate_sp`]; counted as
+    /// [`Self::inserted_vertices`] is).
+    pub fn regenerations(&self) -> (u64, u64) {
+        self.regenerations
     }
 
     /// Frames that ran the physics (not asleep) since creation.
@@ -932,11 +942,13 @@ impl Sim {
         }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
         let mut relaxed_undone = false;
+        let mut undone = false;
         self.kept_crossed_start = false;
         if guard {
             // The isometry step may just have swept these very positions for crossings.
             let checked = self.cfg.geometry.enabled && self.geometry.checked_uncrossed();
             if !checked && self.undo_pass_through(frame_scale) {
+                undone = true;
                 relaxed_undone = self.relax_undone_start(dt);
                 self.sheet.sg.pull_positions(&self.sheet.sp);
                 self.geometry.sync_positions(&self.sheet.sp);
@@ -953,6 +965,15 @@ impl Sim {
             }
         }
         self.phase_ns.self_contact_ns += self.stopwatch.lap_ns();
+        // The seeds' step (g), opt-in: S_P rebuilt from this frame's S_G (sim/remesh.rs).
+        if self.cfg.geometry.enabled
+            && self.cfg.geometry.regenerate_sp
+            && !undone
+            && !self.refinement_pending()
+        {
+            self.regenerate_sp();
+            self.phase_ns.geometry_ns += self.stopwatch.lap_ns();
+        }
         self.update_contacts();
         self.last_metrics = self.metrics.compute(&self.sheet.sp);
         self.analysis.analyze(
@@ -1225,7 +1246,9 @@ fn mesh_capacity_for(cfg: &SimConfig) -> (usize, usize) {
         best.0 = best.0.max(p.points.len());
         best.1 = best.1.max(p.triangles.len());
     }
-    (2 * best.0, 2 * best.1)
+    // A regenerated S_P cuts every ruling into lattice-sized pieces (sheet/regenerate.rs).
+    let k = if cfg.geometry.regenerate_sp { 4 } else { 2 };
+    (k * best.0, k * best.1)
 }
 
 #[cfg(test)]

@@ -58,6 +58,12 @@ pub struct GeometryConfig {
     /// initial lattice that are not singular are candidates — with `cut_strips` off there are
     /// none. On by default (see the module doc, "Coarsening").
     pub coarsen_flat_regions: bool,
+    /// Regenerate S_P from S_G after every awake frame in which the sheet has a curved region
+    /// (the seeds' step (g), TOG §4.1 / §5; [`crate::sheet::regenerate`], done by the sim at the
+    /// end of the step). Off by default: every regeneration builds and adopts a new mesh, which
+    /// costs more than the default event-driven S_P's whole frame
+    /// (`docs/sp-regeneration-plan.md`, figures in `docs/benchmarks.md`) and allocates.
+    pub regenerate_sp: bool,
 }
 
 impl Default for GeometryConfig {
@@ -77,6 +83,7 @@ impl Default for GeometryConfig {
             flip_compressed_edges: true,
             cut_strips: false,
             coarsen_flat_regions: true,
+            regenerate_sp: false,
         }
     }
 }

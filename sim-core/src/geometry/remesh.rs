@@ -8,22 +8,28 @@ impl GeometryLayer {
     /// keep their index; `tri_parent` names each new triangle's old triangle): the persistent
     /// state goes through [`Self::save`] / [`Self::restore`] as for a saved sheet, with the
     /// per-triangle state (curved flags, refractory frames) taken from the parent triangle;
-    /// this frame's events and counters are kept. After a coarsening ([`crate::sheet::coarsen`],
-    /// `removed`: the vertex taken out) every vertex index after `removed` moves down by one,
-    /// in the saved state as in the mesh. Allocates (a connectivity change).
+    /// this frame's events and counters are kept. After a coarsening ([`crate::sheet::coarsen`])
+    /// or a regeneration ([`crate::sheet::regenerate`]) `old_to_new` maps every old vertex to
+    /// its new index ([`crate::sheet::topology::NONE`]: gone), in the saved state as in the
+    /// mesh; a saved state naming a vertex that is gone is an error. Allocates (a connectivity
+    /// change).
     pub fn remeshed(
         &self,
         sp: &PhysMesh,
         sg: &mut GeomStructure,
         tri_parent: &[u32],
-        removed: Option<u32>,
+        old_to_new: Option<&[u32]>,
         mat: &PaperMaterial,
         seed: u64,
     ) -> Result<Self, String> {
         let mut saved = self.save();
-        if let Some(r) = removed {
-            let map =
-                |v: u32| crate::sheet::coarsen::new_index(r, v).ok_or("a removed vertex is named");
+        if let Some(m) = old_to_new {
+            let map = |v: u32| {
+                m.get(v as usize)
+                    .copied()
+                    .filter(|&n| n != crate::sheet::topology::NONE)
+                    .ok_or("a removed vertex is named")
+            };
             for s in &mut saved.singular {
                 s.0 = map(s.0)?;
             }
@@ -59,14 +65,19 @@ impl GeometryLayer {
         for (t, &p) in tri_parent.iter().enumerate() {
             g.prev_curved[t] = self.prev_curved[p as usize];
         }
-        let kept = self
-            .junction_prev
-            .iter()
-            .enumerate()
-            .filter(|&(v, _)| removed != Some(v as u32))
-            .map(|(_, &j)| j);
-        for (slot, j) in g.junction_prev.iter_mut().zip(kept) {
-            *slot = j;
+        match old_to_new {
+            None => {
+                for (slot, &j) in g.junction_prev.iter_mut().zip(&self.junction_prev) {
+                    *slot = j;
+                }
+            }
+            Some(m) => {
+                for (&n, &j) in m.iter().zip(&self.junction_prev) {
+                    if let Some(slot) = g.junction_prev.get_mut(n as usize) {
+                        *slot = j;
+                    }
+                }
+            }
         }
         g.out.frame = self.out.frame;
         g.out.events.clone_from(&self.out.events);

@@ -49,6 +49,7 @@ use super::Sim;
 use crate::collision::VertexContact;
 use crate::geometry::THETA0_RAD;
 use crate::geometry::{GeometryLayer, PendingFlip, PendingSingular};
+use crate::geometry::{RegionKind, TriKind};
 use crate::gesture_rig::GestureRig;
 use crate::math::V3;
 use crate::metrics::MetricsTracker;
@@ -60,6 +61,8 @@ use crate::sheet::cut::{self, Cut, EdgeCrossing};
 use crate::sheet::geometric::GeomStructure;
 use crate::sheet::physical::PhysMesh;
 use crate::sheet::refine::{self, Flip, Insertion};
+use crate::sheet::regenerate::{self, Regeneration, RulingLine};
+use crate::sheet::topology::NONE;
 
 impl Sim {
     /// Makes the pending singular vertex `p`: a new S_P vertex at s̄, else the nearest vertex
@@ -179,10 +182,100 @@ impl Sim {
             ..
         } = c;
         let into_now = coarsen::new_index(removed, into).unwrap_or(into);
-        if self.adopt_uncrossed(mesh, &tri_parent, Some(removed)) {
+        let old_to_new: Vec<u32> = (0..self.sheet.sp.num_vertices() as u32)
+            .map(|v| coarsen::new_index(removed, v).unwrap_or(NONE))
+            .collect();
+        if self.adopt_uncrossed(mesh, &tri_parent, Some(&old_to_new)) {
             self.geometry.vertex_collapsed(removed, into_now);
             self.collapsed_vertices += 1;
         }
+    }
+
+    /// Regenerates S_P from this frame's S_G ([`regenerate::regenerate`]; the seeds' step (g),
+    /// on with [`crate::geometry::GeometryConfig::regenerate_sp`]) and adopts it, unless the
+    /// sheet has no curved region (S_P is then what S_G would give), the result is S_P itself,
+    /// it would not fit the mesh capacity, or it makes the sheet cross itself where S_P did not.
+    /// Runs at the end of an awake step, after the geometry layer: this frame's events stay, the
+    /// layer's partition is made afresh on the new mesh (as after an insertion).
+    pub(super) fn regenerate_sp(&mut self) {
+        let sp = &self.sheet.sp;
+        let g = self.geometry.frame();
+        if g.tri_kind.len() != sp.num_triangles() {
+            return;
+        }
+        let tri_curved: Vec<bool> = g.tri_kind.iter().map(|&k| k == TriKind::Curved).collect();
+        if !tri_curved.contains(&true) {
+            return;
+        }
+        let n = sp.num_vertices();
+        let mut must_keep = vec![false; n];
+        let mut keep = |v: u32| {
+            if let Some(k) = must_keep.get_mut(v as usize) {
+                *k = true;
+            }
+        };
+        self.sheet.sg.vertices.iter().for_each(|v| keep(v.sp_index));
+        g.held.iter().chain(&g.junctions).for_each(|&v| keep(v));
+        self.rig.ownership_state().0.iter().for_each(|o| keep(o.0));
+        for (v, &f) in self.fixed.iter().enumerate() {
+            if f {
+                keep(v as u32);
+            }
+        }
+        for b in self.physics.contact_boosts() {
+            b.verts.iter().for_each(|&v| keep(v));
+        }
+        let rulings: Vec<RulingLine> = g
+            .rulings
+            .iter()
+            .filter(|r| {
+                r.sp_edge == u32::MAX
+                    && g.regions
+                        .get(r.region as usize)
+                        .is_some_and(|reg| reg.kind == RegionKind::Curved)
+            })
+            .map(|r| RulingLine {
+                region: r.region,
+                a2: r.a2,
+                b2: r.b2,
+            })
+            .collect();
+        let spacing_m = self.cfg.mesh.spacing_m(self.sheet.size);
+        let r = match regenerate::regenerate(sp, &tri_curved, &must_keep, &rulings, spacing_m) {
+            Ok(r) => r,
+            Err(_) => {
+                self.regenerations.1 += 1;
+                return;
+            }
+        };
+        if r.unchanged(sp) {
+            return;
+        }
+        let (cap_v, cap_t) = self.mesh_capacity;
+        if r.mesh.num_vertices() > cap_v || r.mesh.num_triangles() > cap_t {
+            self.regenerations.1 += 1;
+            return;
+        }
+        let Regeneration {
+            mesh,
+            old_to_new,
+            tri_parent,
+            ..
+        } = r;
+        // As an insertion: the old mesh is checked only when the new one crosses.
+        if self.proximity.any_crossing(&mesh) && !self.proximity.any_crossing(&self.sheet.sp) {
+            self.regenerations.1 += 1;
+            return;
+        }
+        if self
+            .adopt_mesh(mesh, &tri_parent, Some(&old_to_new))
+            .is_err()
+        {
+            self.regenerations.1 += 1;
+            return;
+        }
+        self.sheet.sg.pull_positions(&self.sheet.sp);
+        self.regenerations.0 += 1;
     }
 
     /// The common end of a flip and a cut (a connectivity change with the sheet's shape kept):
@@ -192,7 +285,7 @@ impl Sim {
         &mut self,
         mesh: PhysMesh,
         tri_parent: &[u32],
-        removed: Option<u32>,
+        old_to_new: Option<&[u32]>,
     ) -> bool {
         self.geometry.start_events_early();
         self.wake();
@@ -200,7 +293,7 @@ impl Sim {
         if self.proximity.any_crossing(&mesh) && !self.proximity.any_crossing(&self.sheet.sp) {
             return false;
         }
-        if self.adopt_mesh(mesh, tri_parent, removed).is_err() {
+        if self.adopt_mesh(mesh, tri_parent, old_to_new).is_err() {
             return false;
         }
         self.sheet.sg.pull_positions(&self.sheet.sp);
@@ -208,19 +301,21 @@ impl Sim {
     }
 
     /// Replaces S_P by `mesh` (refined, flipped or cut: old vertices keep their index; or
-    /// coarsened: `removed` is gone and the vertices after it move down by one; `tri_parent`
-    /// names each triangle's old triangle) and rebuilds what is sized by it. Nothing changes
-    /// if an error is returned.
+    /// coarsened or regenerated: `old_to_new` gives each old vertex's new index, `NONE` if it
+    /// is gone; `tri_parent` names each triangle's old triangle) and rebuilds what is sized by
+    /// it. Nothing changes if an error is returned.
     fn adopt_mesh(
         &mut self,
         mesh: PhysMesh,
         tri_parent: &[u32],
-        removed: Option<u32>,
+        old_to_new: Option<&[u32]>,
     ) -> Result<(), String> {
-        let map = |v: u32| match removed {
-            Some(r) => {
-                coarsen::new_index(r, v).ok_or_else(|| "a removed vertex is named".to_string())
-            }
+        let map = |v: u32| match old_to_new {
+            Some(m) => m
+                .get(v as usize)
+                .copied()
+                .filter(|&n| n != NONE)
+                .ok_or_else(|| "a removed vertex is named".to_string()),
             None => Ok(v),
         };
         let n = mesh.num_vertices();
@@ -238,7 +333,7 @@ impl Sim {
             &sheet.sp,
             &mut sheet.sg,
             tri_parent,
-            removed,
+            old_to_new,
             &self.material,
             self.cfg.seed,
         )?;
@@ -270,12 +365,11 @@ impl Sim {
         self.geometry = geometry;
         self.rig = rig;
         self.sheet = sheet;
-        if let Some(r) = removed {
-            let r = r as usize;
-            self.fixed.remove(r);
-            self.kin_target.remove(r);
-            self.forces.remove(r);
-            self.contacts.remove(r);
+        if let Some(m) = old_to_new {
+            remap(&mut self.fixed, m, n, false);
+            remap(&mut self.kin_target, m, n, V3::zeros());
+            remap(&mut self.forces, m, n, V3::zeros());
+            remap(&mut self.contacts, m, n, VertexContact::default());
         }
         self.fixed.resize(n, false);
         self.kin_target.resize(n, V3::zeros());
@@ -283,6 +377,18 @@ impl Sim {
         self.contacts.resize(n, VertexContact::default());
         Ok(())
     }
+}
+
+/// `v` (one entry per old vertex) re-indexed by `old_to_new` into `n` entries; new vertices get
+/// `fill`.
+fn remap<T: Copy>(v: &mut Vec<T>, old_to_new: &[u32], n: usize, fill: T) {
+    let mut out = vec![fill; n];
+    for (&x, &j) in v.iter().zip(old_to_new) {
+        if let Some(slot) = out.get_mut(j as usize) {
+            *slot = x;
+        }
+    }
+    *v = out;
 }
 
 #[cfg(test)]
