@@ -169,7 +169,15 @@
 //!   well inside the seeds' post-remeshing figures. Measured since: adopting a changed S_P
 //!   (`Sim::adopt_mesh`: physics with its symbolic factorization, layer, rig) costs 1.2 ms, more
 //!   than the whole frame budget, so a regeneration must be an event, not a per-frame step;
-//!   the plan for strip cutting and regeneration is `docs/sp-regeneration-plan.md`.
+//!   the plan for strip cutting and regeneration is `docs/sp-regeneration-plan.md`. The
+//!   seeds' per-frame regeneration is built as an opt-in mode
+//!   ([`GeometryConfig::regenerate_sp`], [`crate::sheet::regenerate`]: S_P rebuilt from S_G
+//!   after steps (d)–(f), then the isometry step on the new S_P) and measured against this
+//!   default over every seed scene (`sim-core/examples/regen_probe.rs`): 3.7–8.9× the frame
+//!   time, c_mean 0.06–0.67 % against 0.0004–0.028 %, and singular points where the default
+//!   has none (the twist C2: 25) — the chords new vertices are interpolated on compress the
+//!   sheet each frame, and the compression analysis reads that as buckling. Figures and
+//!   reasons in the plan.
 //! - **A singular point gets an S_P vertex at s̄.** s̄ is sampled with the seeds' law and σ
 //!   ([`SingularPoint::sampled2`]) about ē_sing. The eligible S_P vertex nearest to it among
 //!   the two faces of ē_sing (interior, not held, not yet singular) moves there in the
@@ -750,7 +758,12 @@ impl GeometryLayer {
         self.trace_rulings(sp);
         self.fit_cones();
         self.realign_rulings(sp);
-        self.isometry(sp, fixed, obstacles, driven, start_normals);
+        if self.cfg.regenerate_sp {
+            // Step (h) runs on the regenerated S_P ([`Self::isometry_after_regeneration`]).
+            self.checked_uncrossed = false;
+        } else {
+            self.isometry(sp, fixed, obstacles, driven, start_normals);
+        }
         self.sync_positions(sp);
         if self.cfg.coarsen_flat_regions && frame.is_multiple_of(COARSEN_PERIOD_FRAMES) {
             self.find_coarsening(sp, frame);

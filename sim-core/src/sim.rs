@@ -204,12 +204,14 @@
 //! capacity ([`Sim::mesh_capacity`]) do not allocate (tested with a counting allocator).
 
 mod phase_times;
+mod regen_counts;
 mod remesh;
 mod saved;
 mod substep;
 mod undo;
 
 pub use phase_times::PhaseTimes;
+pub use regen_counts::RegenCounts;
 pub use saved::{RestoreError, SAVED_SHEET_VERSION, SavedSheet};
 
 use phase_times::Stopwatch;
@@ -427,7 +429,7 @@ pub struct Sim {
     /// ([`crate::geometry::GeometryConfig::coarsen_flat_regions`]).
     collapsed_vertices: u64,
     /// S_P regenerations adopted and refused (sim/remesh.rs).
-    regenerations: (u64, u64),
+    regenerations: RegenCounts,
     analysis: SoundAnalysis,
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
@@ -532,7 +534,7 @@ impl Sim {
             flipped_edges: 0,
             cut_strips: 0,
             collapsed_vertices: 0,
-            regenerations: (0, 0),
+            regenerations: RegenCounts::default(),
             analysis,
             proximity: {
                 // Vertices inserted at singular points make pairs of triangles a fraction of an
@@ -705,10 +707,10 @@ impl Sim {
         self.collapsed_vertices
     }
 
-    /// Times S_P was regenerated from S_G, and times a regeneration was refused, in the
+    /// Times S_P was regenerated from S_G, and why regenerations were refused, in the
     /// current sheet ([`crate::geometry::GeometryConfig::regenerate_sp`]; counted as
     /// [`Self::inserted_vertices`] is).
-    pub fn regenerations(&self) -> (u64, u64) {
+    pub fn regenerations(&self) -> RegenCounts {
         self.regenerations
     }
 
@@ -972,6 +974,19 @@ impl Sim {
             && !self.refinement_pending()
         {
             self.regenerate_sp();
+            self.phase_ns.regeneration_ns = self.stopwatch.lap_ns();
+            self.phase_ns.geometry_ns += self.phase_ns.regeneration_ns;
+        }
+        // Step (h) on the regenerated S_P (the layer left it out, geometry.rs).
+        if self.cfg.geometry.enabled && self.cfg.geometry.regenerate_sp && !undone {
+            self.geometry.isometry_after_regeneration(
+                &mut self.sheet.sp,
+                &self.fixed,
+                &self.obstacles,
+                driven,
+                self.metrics.previous_normals(),
+            );
+            self.sheet.sg.pull_positions(&self.sheet.sp);
             self.phase_ns.geometry_ns += self.stopwatch.lap_ns();
         }
         self.update_contacts();

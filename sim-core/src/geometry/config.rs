@@ -60,9 +60,11 @@ pub struct GeometryConfig {
     pub coarsen_flat_regions: bool,
     /// Regenerate S_P from S_G after every awake frame in which the sheet has a curved region
     /// (the seeds' step (g), TOG §4.1 / §5; [`crate::sheet::regenerate`], done by the sim at the
-    /// end of the step). Off by default: every regeneration builds and adopts a new mesh, which
-    /// costs more than the default event-driven S_P's whole frame
-    /// (`docs/sp-regeneration-plan.md`, figures in `docs/benchmarks.md`) and allocates.
+    /// end of the step), and run the isometry step (h) on the regenerated S_P instead of inside
+    /// the layer. Off by default: measured over every seed scene, the mode costs 3.7–8.9× the
+    /// default's frame, is 5–300× less accurate (c_mean) and creates singular points where the
+    /// default has none, and it allocates (`docs/sp-regeneration-plan.md`, "Per-frame
+    /// regeneration, built and measured").
     pub regenerate_sp: bool,
 }
 

@@ -47,6 +47,14 @@ impl GeometryLayer {
             if let Some(c) = &mut saved.pending_coarsen {
                 c.0 = map(c.0)?;
             }
+            // Old vertices keep their order: the lattice's survivors are still the first ones.
+            if let Some(c) = &mut saved.coarsen_from {
+                *c = m
+                    .iter()
+                    .take(*c as usize)
+                    .filter(|&&n| n != crate::sheet::topology::NONE)
+                    .count() as u32;
+            }
         }
         saved.curved = tri_parent
             .iter()

@@ -305,13 +305,7 @@ pub fn collapse_vertex(
     mesh.vel = vel;
     // Back from new to old indices: the removed vertex's slot is skipped.
     let old = |i: u32| if i >= v { i + 1 } else { i };
-    for (ei, e) in mesh.topo.edges.iter().enumerate() {
-        let [a, b] = e.v.map(old);
-        if let Some(oe) = sp.topo.find_edge(a, b) {
-            mesh.edge_rest_angle[ei] = sp.edge_rest_angle[oe as usize];
-            mesh.edge_damage[ei] = sp.edge_damage[oe as usize];
-        }
-    }
+    mesh.inherit_edge_state(sp, |e| Some(e.map(old)));
     mesh.singular = sp
         .singular
         .iter()

@@ -328,21 +328,14 @@ pub fn cut_along(sp: &PhysMesh, crossings: &[EdgeCrossing]) -> Result<Cut, CutEr
     let mut mesh = PhysMesh::from_pattern(&pattern, 0.0, sp.areal_density_kg_m2)?;
     mesh.pos = pos;
     mesh.vel = vel;
-    for (ei, e) in mesh.topo.edges.iter().enumerate() {
-        let [a, b] = e.v;
-        // A half of a split edge inherits the old edge's rest angle and damage.
+    // A half of a split edge inherits the old edge's rest angle and damage.
+    mesh.inherit_edge_state(sp, |[a, b]| {
         let from = split_of
             .iter()
             .find(|&&(k, n)| (a == n && k.contains(&b)) || (b == n && k.contains(&a)))
             .map_or([a, b], |&(k, _)| k);
-        if (from[0] as usize) < n0
-            && (from[1] as usize) < n0
-            && let Some(oe) = sp.topo.find_edge(from[0], from[1])
-        {
-            mesh.edge_rest_angle[ei] = sp.edge_rest_angle[oe as usize];
-            mesh.edge_damage[ei] = sp.edge_damage[oe as usize];
-        }
-    }
+        ((from[0] as usize) < n0 && (from[1] as usize) < n0).then_some(from)
+    });
     mesh.singular.clone_from(&sp.singular);
     mesh.rest_version = sp.rest_version + 1;
     Ok(Cut {

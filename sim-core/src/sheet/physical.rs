@@ -341,6 +341,22 @@ impl PhysMesh {
         }
     }
 
+    /// After a remeshing: each edge of this (new) mesh that `old_ends` traces back to an edge
+    /// of `old` (its old end vertices, or `None`) takes that edge's rest angle and fibre damage;
+    /// the others keep theirs (flat and undamaged for a mesh just built).
+    pub fn inherit_edge_state(
+        &mut self,
+        old: &PhysMesh,
+        old_ends: impl Fn([u32; 2]) -> Option<[u32; 2]>,
+    ) {
+        for (ei, e) in self.topo.edges.iter().enumerate() {
+            if let Some(oe) = old_ends(e.v).and_then(|[a, b]| old.topo.find_edge(a, b)) {
+                self.edge_rest_angle[ei] = old.edge_rest_angle[oe as usize];
+                self.edge_damage[ei] = old.edge_damage[oe as usize];
+            }
+        }
+    }
+
     /// Total mass, kg.
     pub fn total_mass_kg(&self) -> f64 {
         self.mass_kg.iter().sum()

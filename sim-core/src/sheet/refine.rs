@@ -578,18 +578,14 @@ fn split_and_flip(
     mesh.pos = pos_all;
     mesh.vel.clone_from(&sp.vel);
     mesh.vel.push(vel);
-    for (ei, e) in mesh.topo.edges.iter().enumerate() {
-        let key = e.v;
+    mesh.inherit_edge_state(sp, |key| {
         let from = inherit
             .iter()
             .find(|(new, _)| [new[0].min(new[1]), new[0].max(new[1])] == key)
             .map(|&(_, old)| old)
             .unwrap_or(key);
-        if let Some(oe) = old_edge(from[0], from[1]) {
-            mesh.edge_rest_angle[ei] = sp.edge_rest_angle[oe];
-            mesh.edge_damage[ei] = sp.edge_damage[oe];
-        }
-    }
+        (from[0] < n && from[1] < n).then_some(from)
+    });
     mesh.singular.clone_from(&sp.singular);
     mesh.rest_version = sp.rest_version + 1;
     Ok(Insertion {
@@ -706,12 +702,7 @@ pub fn flip_edge(sp: &PhysMesh, edge: u32) -> Result<Flip, FlipError> {
     let mut mesh = PhysMesh::from_pattern(&pattern, 0.0, sp.areal_density_kg_m2)?;
     mesh.pos.clone_from(&sp.pos);
     mesh.vel.clone_from(&sp.vel);
-    for (ei, ne) in mesh.topo.edges.iter().enumerate() {
-        if let Some(oe) = sp.topo.find_edge(ne.v[0], ne.v[1]) {
-            mesh.edge_rest_angle[ei] = sp.edge_rest_angle[oe as usize];
-            mesh.edge_damage[ei] = sp.edge_damage[oe as usize];
-        }
-    }
+    mesh.inherit_edge_state(sp, Some);
     mesh.singular.clone_from(&sp.singular);
     mesh.rest_version = sp.rest_version + 1;
     Ok(Flip {

@@ -16,56 +16,71 @@
 //!
 //! S_G here is the persistent part ([`super::geometric::GeomStructure`]: corners, boundary
 //! samples, singular vertices) and the layer's frame (regions as S_P triangle sets, rulings with
-//! pattern endpoints). The regenerated S_P is a **constrained Delaunay triangulation** (spade)
-//! of the pattern:
+//! pattern and 3D endpoints). The regenerated S_P is a **constrained Delaunay triangulation**
+//! (spade) of the pattern:
 //!
-//! - **Vertices kept** (index map old → new, state copied exactly): every S_G vertex, every
-//!   held vertex, every vertex of a flat or singular-fan triangle (the flat regions' samples are
-//!   S_P's own: impl. choice, where the seeds draw new interior samples at ρ_int, digest §9 —
-//!   our lattice already is a Delaunay triangulation of such samples), and every vertex of an
-//!   edge with a rest angle or fibre damage.
+//! - **Vertices kept** (index map old → new, old order, state copied exactly): every S_G
+//!   vertex, every held vertex and every vertex of a holding hand (the sim's `must_keep`),
+//!   every vertex of a flat or singular-fan triangle (the flat regions' samples are S_P's own:
+//!   impl. choice, where the seeds draw new interior samples at ρ_int, digest §9 — our lattice
+//!   already is a Delaunay triangulation of such samples), and every vertex of an edge with a
+//!   rest angle or fibre damage.
 //! - **Vertices dropped**: the rest, i.e. the vertices all of whose triangles are curved — a
 //!   curved region's interior is rebuilt from its rulings each frame, as in the seeds.
-//! - **Vertices added**: both pattern endpoints of every traced ruling of a curved region and
-//!   the barycentre of every quad between neighbouring rulings of one region. A point within
-//!   [`SNAP_FRAC`] of the lattice spacing of a vertex already placed is that vertex (no sliver);
-//!   an endpoint on the sheet's border is put exactly on it; a point that close to a kept
-//!   edge (below) is left out, and a ruling with an end left out is not made an edge chain.
+//! - **Vertices added**: points along the rulings of each curved region and a barycentre per
+//!   piece of each quad between neighbouring rulings (next section). A point within
+//!   [`SNAP_FRAC`] of the lattice spacing h of a point already placed is that point; one within
+//!   [`GAP_FRAC`] · h of a placed point, or within [`SNAP_FRAC`] · h of a kept edge, is left
+//!   out (no sliver, and S_P stays about as fine as the lattice); a point near the sheet's
+//!   border is put exactly on it.
 //! - **Constraints** (edges the triangulation must have): every old edge between kept vertices
 //!   that borders a flat or fan triangle or carries a rest angle or damage — so flat regions,
-//!   creases and cone fans keep their triangles — then every ruling (from endpoint to endpoint)
-//!   that crosses no constraint already in.
+//!   creases and cone fans keep their triangles — then each ruling as the chain of its points
+//!   (piece by piece, so the triangulation cannot slip a sliver between a piece and a point on
+//!   it), each piece that crosses no constraint already in.
 //!
-//! ## Long rulings (impl. choice)
+//! ## Rulings used, and long rulings (impl. choices)
 //!
-//! The seeds' quad between two neighbouring rulings, split about its barycentre, has angles of
-//! about atan(w / L): 5° for rulings 0.83 cm apart (the resampling's 1/ρ_bound, Table VI) and
-//! 10 cm long, and its bending hinge is the whole ruling. Here a ruling longer than the lattice
-//! spacing h is cut into ⌈L / h⌉ equal pieces (points on the ruling, which stays one straight
-//! chain of edges), and the quad into as many sub-quads, each with its own barycentre (the
-//! midpoint of the pieces' midpoints), so the curved region's triangles are as fine along the
-//! rulings as the lattice and about as wide as the ruling spacing.
+//! The layer traces rulings about 1/ρ_bound = 0.83 cm apart (Table VI), a quarter of our
+//! lattice spacing: taking all of them would make S_P four times as fine across the rulings as
+//! along them. In each region the first ruling is used, then each one at least
+//! [`RULING_SPACING_FRAC`] · h from the last one used (at its farther end). The seeds' quad
+//! between two neighbouring rulings, split about its barycentre, has angles of about atan(w / L)
+//! (5° for rulings 0.83 cm apart and 10 cm long) and its bending hinge is the whole ruling.
+//! Here a ruling longer than h is cut into ⌈L / h⌉ equal pieces (points on the ruling, which
+//! stays one straight chain of edges), and the quad into as many sub-quads, each with its own
+//! barycentre (the midpoint of the pieces' midpoints), so the curved region's triangles are as
+//! fine along the rulings as the lattice.
 //!
 //! ## State transfer
 //!
 //! A kept vertex keeps its 3D position and velocity. An added vertex takes both interpolated
-//! (barycentric) in the old triangle under its pattern point: on a curved region that is the
-//! chord of the old triangle, within its sag of the surface. Rest data, hinges and lumped masses
-//! are rebuilt from the new pattern ([`PhysMesh::from_pattern`]: the total mass is unchanged).
-//! An edge present in both meshes keeps its rest angle and damage; a new edge starts flat and
-//! undamaged (the dropped region had neither, by the rule above). Each triangle names the old
-//! triangle under its pattern centroid ([`Regeneration::tri_parent`]).
+//! (barycentric) in the old triangle under its pattern point (digest §2.2 item 5): on a curved
+//! region that is the chord of the old triangle, within its sag of the surface. A point on a
+//! ruling whose 3D length matches its pattern length within [`RULING_ISOMETRY_TOL`] is put on
+//! the ruling's straight 3D segment instead — a developable surface is straight along its
+//! rulings, so there the point is on the surface, not on a chord — unless that is more than
+//! [`RULING_POINT_FRAC`] · h from the interpolated point (a ruling traced across a fold:
+//! measured, unguarded placement on the rulings' segments gave one C1 edge 335 % longer than
+//! its rest length). Rest data, hinges and lumped masses are rebuilt from the new pattern
+//! ([`PhysMesh::from_pattern`]: the total mass is unchanged). An edge present in both meshes
+//! keeps its rest angle and damage; a new edge starts flat and undamaged (the dropped region had
+//! neither, by the rule above). Each triangle names the old triangle under its pattern centroid
+//! ([`Regeneration::tri_parent`]). The sim then runs the isometry step on the new S_P (step
+//! (h) after (g), as in the seeds' frame loop, digest §3.0).
 //!
 //! ## Refusals
 //!
-//! A regeneration whose triangulation has a triangle with an angle below
-//! [`REGEN_MIN_ANGLE_RAD`] (long rulings close together make thin quads), misses a point, or
-//! fails to build is refused ([`RegenError`]): S_P stays as it is that frame. The angle limit
+//! A triangle with an angle below [`REGEN_MIN_ANGLE_RAD`] has the added point at its widest
+//! angle taken out and the triangulation redone (at most [`MAX_PASSES`] times); a thin
+//! triangle of kept vertices only, a point outside the sheet, or a mesh that fails to build
+//! refuses the regeneration ([`RegenError`]): S_P stays as it is that frame. The angle limit
 //! is lower than an insertion's 12° ([`super::refine::MIN_ANGLE_RAD`]) because the seeds' own
 //! barycentre split of a quad 0.8 cm wide and 5 cm long has angles of about 10°.
 //!
 //! Building a mesh allocates: the per-frame regeneration is an opt-in mode for offline study
-//! (accuracy and cost against the default event-driven S_P), not the plugin's steady state.
+//! (accuracy and cost against the default event-driven S_P, `sim-core/examples/regen_probe.rs`,
+//! figures in `docs/sp-regeneration-plan.md`), not the plugin's steady state.
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
@@ -79,8 +94,27 @@ use crate::sheet::topology::NONE;
 /// vertex.
 pub const SNAP_FRAC: f64 = 0.25;
 
+/// A new point farther than the snap distance but within this fraction of the lattice spacing
+/// of a point already placed is left out: the regenerated S_P is about as fine as the lattice.
+pub const GAP_FRAC: f64 = 0.6;
+
 /// Most pieces a ruling is cut into.
 const MAX_PIECES: usize = 64;
+
+/// Rulings of one region closer than this fraction of the lattice spacing to the last one used
+/// are not used (module doc, "Long rulings").
+pub const RULING_SPACING_FRAC: f64 = 1.0;
+
+/// A ruling whose 3D length is within this fraction of its pattern length is isometric: its new
+/// points are put on its 3D segment (module doc, "State transfer").
+pub const RULING_ISOMETRY_TOL: f64 = 0.01;
+
+/// A point put on its ruling must lie within this fraction of the lattice spacing of the point
+/// interpolated in the old S_P, or the interpolated one is used.
+pub const RULING_POINT_FRAC: f64 = 0.1;
+
+/// Most times a thin triangle's added point is taken out and the triangulation redone.
+pub const MAX_PASSES: usize = 8;
 
 /// Smallest pattern angle a regenerated triangle may have, radians (5°; module doc).
 pub const REGEN_MIN_ANGLE_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
@@ -94,6 +128,10 @@ pub struct RulingLine {
     pub a2: V2,
     /// Pattern endpoints, metres.
     pub b2: V2,
+    /// 3D endpoints, metres (interpolated on S_P).
+    pub a3: V3,
+    /// 3D endpoints, metres.
+    pub b3: V3,
 }
 
 /// Why S_P was not regenerated.
@@ -218,6 +256,7 @@ pub fn regenerate(
         .collect();
     let snap_m = SNAP_FRAC * spacing_m;
     let snap2 = snap_m * snap_m;
+    let gap2 = (GAP_FRAC * spacing_m).powi(2);
     let border = BorderBox::of(sp);
     // A point within the snap distance of a kept vertex or a point already added is that point;
     // one that close to a kept edge (but not its ends) would make a sliver and is not added.
@@ -229,32 +268,60 @@ pub fn regenerate(
             (pa + d * t - p).norm_squared() < snap2
         })
     };
-    let add = |p: V2, points: &mut Vec<V2>| -> u32 {
+    // The old vertex each point is, NONE for a new point.
+    let mut origin: Vec<u32> = (0..n_old as u32).filter(|&v| keep[v as usize]).collect();
+    let nearest = |p: V2, points: &[V2]| {
+        points
+            .iter()
+            .map(|q| (q - p).norm_squared())
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    let fits = |p: V2, points: &[V2]| {
+        nearest(p, points).is_none_or(|(_, d2)| d2 >= gap2) && !near_kept_edge(p, &points[..n_kept])
+    };
+    // The 3D point of each new point on a ruling, where the ruling is straight and isometric
+    // (module doc, "State transfer").
+    let mut on_ruling: Vec<Option<V3>> = Vec::with_capacity(points.capacity());
+    let mut add = |p: V2, p3: Option<V3>, points: &mut Vec<V2>| -> u32 {
         let p = border.onto(p, snap_m);
-        match points.iter().position(|q| (q - p).norm_squared() < snap2) {
-            Some(i) => i as u32,
-            None if near_kept_edge(p, &points[..n_kept]) => NONE,
-            None => {
-                points.push(p);
-                (points.len() - 1) as u32
-            }
+        if let Some((i, d2)) = nearest(p, points)
+            && d2 < snap2
+        {
+            return i as u32;
         }
+        if !fits(p, points) {
+            return NONE;
+        }
+        points.push(p);
+        origin.push(NONE);
+        on_ruling.push(p3);
+        (points.len() - 1) as u32
     };
     // Segments per ruling: rulings are cut into pieces no longer than the lattice spacing
     // (module doc, "Long rulings").
     let pieces = |len: f64| ((len / spacing_m).ceil() as usize).clamp(1, MAX_PIECES);
-    let mut ends: Vec<[u32; 2]> = Vec::with_capacity(rulings.len());
+    // Each ruling as the chain of its points in order, ends first: a point snapped onto another
+    // is that one, a point left out is skipped.
+    let rulings = &spaced(rulings, RULING_SPACING_FRAC * spacing_m);
+    let mut chains: Vec<Vec<u32>> = Vec::with_capacity(rulings.len());
     for r in rulings {
         if !(r.a2.x.is_finite() && r.a2.y.is_finite() && r.b2.x.is_finite() && r.b2.y.is_finite()) {
             return Err(RegenError::Insertion);
         }
-        let a = add(r.a2, &mut points);
-        let b = add(r.b2, &mut points);
         let k = pieces((r.b2 - r.a2).norm());
-        for j in 1..k {
-            add(r.a2 + (r.b2 - r.a2) * (j as f64 / k as f64), &mut points);
+        let mut chain = Vec::with_capacity(k + 1);
+        for j in 0..=k {
+            let f = j as f64 / k as f64;
+            let isometric =
+                ((r.b3 - r.a3).norm() / (r.b2 - r.a2).norm() - 1.0).abs() < RULING_ISOMETRY_TOL;
+            let p3 = isometric.then(|| r.a3 + (r.b3 - r.a3) * f);
+            let v = add(r.a2 + (r.b2 - r.a2) * f, p3, &mut points);
+            if v != NONE && chain.last() != Some(&v) {
+                chain.push(v);
+            }
         }
-        ends.push([a, b]);
+        chains.push(chain);
     }
     for i in 1..rulings.len() {
         let (r0, r1) = (&rulings[i - 1], &rulings[i]);
@@ -271,62 +338,89 @@ pub fn regenerate(
         for j in 0..k {
             let f = (j as f64 + 0.5) / k as f64;
             let c = (r0.a2 + (r0.b2 - r0.a2) * f + p + (q - p) * f) / 2.0;
-            add(c, &mut points);
+            add(c, None, &mut points);
         }
     }
-    let added = points.len() - n_kept;
 
-    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::new();
-    let mut handles = Vec::with_capacity(points.len());
-    for p in &points {
-        let h = cdt
-            .insert(Point2::new(p.x, p.y))
-            .map_err(|_| RegenError::Insertion)?;
-        handles.push(h);
+    // Triangulate; an added point at the widest angle of a thin triangle is taken out and the
+    // triangulation redone (module doc, "Refusals").
+    let mut alive = vec![true; points.len()];
+    let mut triangles;
+    let mut pass = 0;
+    loop {
+        triangles = triangulate(&points, &alive, n_kept, &kept_edges, &chains)?;
+        let mut thinnest = f64::MAX;
+        let mut taken_out = false;
+        for t in &triangles {
+            let c = t.map(|i| points[i as usize]);
+            let ang = min_angle(c[0], c[1], c[2]);
+            if ang >= REGEN_MIN_ANGLE_RAD {
+                continue;
+            }
+            thinnest = thinnest.min(ang);
+            let widest = (0..3)
+                .filter(|&k| t[k] as usize >= n_kept && alive[t[k] as usize])
+                .max_by(|&i, &j| {
+                    corner_angle(&c, i)
+                        .total_cmp(&corner_angle(&c, j))
+                        .then(j.cmp(&i))
+                });
+            if let Some(k) = widest {
+                alive[t[k] as usize] = false;
+                taken_out = true;
+            }
+        }
+        if thinnest == f64::MAX {
+            break;
+        }
+        if !taken_out || pass == MAX_PASSES {
+            return Err(RegenError::ThinTriangle(thinnest.to_degrees()));
+        }
+        pass += 1;
     }
-    // Two points on one position are one vertex to spade: a kept vertex must stay its own.
-    for (i, h) in handles.iter().enumerate().take(n_kept) {
-        if h.index() != i {
-            return Err(RegenError::Merged(i as u32));
+    // The points left, renumbered: old vertices first, in their old order (so a regeneration
+    // that changes nothing gives S_P back, index for index), then the new points.
+    let mut order: Vec<usize> = (0..points.len()).filter(|&i| alive[i]).collect();
+    order.sort_by_key(|&i| (origin[i] == NONE, origin[i], i));
+    let mut renumber = vec![NONE; points.len()];
+    for (rank, &i) in order.iter().enumerate() {
+        renumber[i] = rank as u32;
+    }
+    old_to_new.fill(NONE);
+    for &i in &order {
+        if origin[i] != NONE {
+            old_to_new[origin[i] as usize] = renumber[i];
         }
     }
-    if cdt.num_vertices() != points.len() {
-        return Err(RegenError::Merged(NONE));
+    let on_ruling: Vec<Option<V3>> = order
+        .iter()
+        .map(|&i| i.checked_sub(n_kept).and_then(|k| on_ruling[k]))
+        .collect();
+    let origin: Vec<u32> = order.iter().map(|&i| origin[i]).collect();
+    let points: Vec<V2> = order.iter().map(|&i| points[i]).collect();
+    for t in &mut triangles {
+        *t = t.map(|i| renumber[i as usize]);
     }
-    // Constraints: the kept structure first, then the rulings that fit.
-    for &(_, [a, b]) in &kept_edges {
-        if cdt.can_add_constraint(handles[a as usize], handles[b as usize]) {
-            cdt.add_constraint(handles[a as usize], handles[b as usize]);
-        }
-    }
-    for &[a, b] in &ends {
-        if a != b
-            && a != NONE
-            && b != NONE
-            && cdt.can_add_constraint(handles[a as usize], handles[b as usize])
-        {
-            cdt.add_constraint(handles[a as usize], handles[b as usize]);
-        }
-    }
-    let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(cdt.num_inner_faces());
-    for f in cdt.inner_faces() {
-        let t = f.vertices().map(|v| v.fix().index() as u32);
-        let [a, b, c] = t.map(|i| points[i as usize]);
-        let ang = min_angle(a, b, c);
-        if ang < REGEN_MIN_ANGLE_RAD {
-            return Err(RegenError::ThinTriangle(ang.to_degrees()));
-        }
-        triangles.push(t);
-    }
-    // State: kept vertices copied, added ones interpolated in the old triangle under them.
+    let ends: Vec<[u32; 2]> = chains
+        .iter()
+        .map(|c| match (c.first(), c.last()) {
+            (Some(&a), Some(&b)) if c.len() > 1 => [renumber[a as usize], renumber[b as usize]],
+            _ => [NONE, NONE],
+        })
+        .collect();
+    let n_old_left = origin.iter().filter(|&&o| o != NONE).count();
+    let added = points.len() - n_old_left;
+
+    // State: old vertices copied, new ones interpolated in the old triangle under them.
     let mut pos: Vec<V3> = Vec::with_capacity(points.len());
     let mut vel: Vec<V3> = Vec::with_capacity(points.len());
-    for v in (0..n_old).filter(|&v| keep[v]) {
-        pos.push(sp.pos[v]);
-        vel.push(sp.vel[v]);
-    }
-    for p in &points[n_kept..] {
+    let near_m = RULING_POINT_FRAC * spacing_m;
+    for ((p, &o), p3) in points.iter().zip(&origin).zip(&on_ruling) {
+        if o != NONE {
+            pos.push(sp.pos[o as usize]);
+            vel.push(sp.vel[o as usize]);
+            continue;
+        }
         let (t, l) = locate(&sp.pattern, &sp.triangles, *p).ok_or(RegenError::Outside)?;
         let tri = sp.triangles[t];
         let lerp = |x: &[V3]| {
@@ -334,7 +428,11 @@ pub fn regenerate(
                 .zip(l)
                 .fold(V3::zeros(), |s, (&i, w)| s + x[i as usize] * w)
         };
-        pos.push(lerp(&sp.pos));
+        let chord = lerp(&sp.pos);
+        pos.push(
+            p3.filter(|q| q.iter().all(|c| c.is_finite()) && (q - chord).norm() < near_m)
+                .unwrap_or(chord),
+        );
         vel.push(lerp(&sp.vel));
     }
     let tri_parent: Vec<u32> = triangles
@@ -354,16 +452,10 @@ pub fn regenerate(
     let mut mesh = PhysMesh::from_pattern(&pattern, 0.0, sp.areal_density_kg_m2)?;
     mesh.pos = pos;
     mesh.vel = vel;
-    for (ei, e) in mesh.topo.edges.iter().enumerate() {
-        let [a, b] = e.v.map(|v| new_to_old[v as usize]);
-        if a == NONE || b == NONE {
-            continue;
-        }
-        if let Some(oe) = sp.topo.find_edge(a, b) {
-            mesh.edge_rest_angle[ei] = sp.edge_rest_angle[oe as usize];
-            mesh.edge_damage[ei] = sp.edge_damage[oe as usize];
-        }
-    }
+    mesh.inherit_edge_state(sp, |v| {
+        let [a, b] = v.map(|v| new_to_old[v as usize]);
+        (a != NONE && b != NONE).then_some([a, b])
+    });
     mesh.singular = sp
         .singular
         .iter()
@@ -379,9 +471,83 @@ pub fn regenerate(
         old_to_new,
         tri_parent,
         added: added as u32,
-        dropped: (n_old - n_kept) as u32,
+        dropped: (n_old - n_old_left) as u32,
         rulings_as_edges,
     })
+}
+
+/// The rulings used: in each region (rulings come region by region, in order across it), the
+/// first, then each one whose farther end is at least `min_m` from the corresponding end of the
+/// last one used.
+fn spaced(rulings: &[RulingLine], min_m: f64) -> Vec<RulingLine> {
+    let mut used: Vec<RulingLine> = Vec::with_capacity(rulings.len());
+    for r in rulings {
+        let far = used
+            .last()
+            .filter(|l| l.region == r.region)
+            .is_none_or(|l| {
+                let same = (l.a2 - r.a2).norm().max((l.b2 - r.b2).norm());
+                let reversed = (l.a2 - r.b2).norm().max((l.b2 - r.a2).norm());
+                same.min(reversed) >= min_m
+            });
+        if far {
+            used.push(*r);
+        }
+    }
+    used
+}
+
+/// The constrained Delaunay triangulation of the live `points` (kept ones first: `n_kept`),
+/// with the kept edges and the rulings' chains (between live points) as constraints; triangles
+/// in `points` indices.
+fn triangulate(
+    points: &[V2],
+    alive: &[bool],
+    n_kept: usize,
+    kept_edges: &[(usize, [u32; 2])],
+    chains: &[Vec<u32>],
+) -> Result<Vec<[u32; 3]>, RegenError> {
+    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::new();
+    let mut handles = vec![None; points.len()];
+    let mut point_of = Vec::with_capacity(points.len());
+    for (i, p) in points.iter().enumerate().filter(|&(i, _)| alive[i]) {
+        let h = cdt
+            .insert(Point2::new(p.x, p.y))
+            .map_err(|_| RegenError::Insertion)?;
+        // Two points on one position are one vertex to spade: each point must stay its own.
+        if h.index() != point_of.len() {
+            return Err(RegenError::Merged(if i < n_kept { i as u32 } else { NONE }));
+        }
+        point_of.push(i as u32);
+        handles[i] = Some(h);
+    }
+    // Constraints: the kept structure first, then the rulings' pieces that fit.
+    let pairs = kept_edges
+        .iter()
+        .map(|&(_, e)| e)
+        .chain(chains.iter().flat_map(|c| {
+            let live: Vec<u32> = c.iter().copied().filter(|&v| alive[v as usize]).collect();
+            live.windows(2).map(|w| [w[0], w[1]]).collect::<Vec<_>>()
+        }));
+    for [a, b] in pairs {
+        if let (Some(ha), Some(hb)) = (handles[a as usize], handles[b as usize])
+            && ha != hb
+            && cdt.can_add_constraint(ha, hb)
+        {
+            cdt.add_constraint(ha, hb);
+        }
+    }
+    Ok(cdt
+        .inner_faces()
+        .map(|f| f.vertices().map(|v| point_of[v.fix().index()]))
+        .collect())
+}
+
+/// The angle of triangle `c` at corner `k`, radians.
+fn corner_angle(c: &[V2; 3], k: usize) -> f64 {
+    let (u, w) = (c[(k + 1) % 3] - c[k], c[(k + 2) % 3] - c[k]);
+    u.perp(&w).abs().atan2(u.dot(&w))
 }
 
 /// True if the straight pattern segment from vertex `a` to vertex `b` of `mesh` is a chain of
@@ -480,9 +646,13 @@ mod tests {
     fn a_curved_band_is_rebuilt_from_its_rulings() {
         let mut sp = sheet();
         // Bend the sheet along x (a cylinder about the y axis), moving at 1 m/s in z.
+        let radius_m = 0.05;
+        let on_cylinder = |q: V2| {
+            let (s, c) = (q.x / radius_m).sin_cos();
+            V3::new(radius_m * s, q.y, radius_m * (1.0 - c))
+        };
         for (p, q) in sp.pos.iter_mut().zip(&sp.pattern) {
-            let r = 0.05;
-            *p = V3::new(r * (q.x / r).sin(), q.y, r * (1.0 - (q.x / r).cos()));
+            *p = on_cylinder(*q);
         }
         for v in &mut sp.vel {
             *v = V3::new(0.0, 0.0, 1.0);
@@ -501,13 +671,17 @@ mod tests {
             })
             .unwrap();
         sp.edge_damage[crease] = 0.5;
-        let rulings: Vec<RulingLine> = (0..7)
+        // Rulings 0.68 h apart: every other one is used (RULING_SPACING_FRAC).
+        let ruling_x = |i: i32| -0.015 + 0.0075 * f64::from(i);
+        let rulings: Vec<RulingLine> = (0..5)
             .map(|i| {
-                let x = -0.024 + 0.008 * f64::from(i);
+                let (a2, b2) = (V2::new(ruling_x(i), -0.05), V2::new(ruling_x(i), 0.05));
                 RulingLine {
                     region: 0,
-                    a2: V2::new(x, -0.05),
-                    b2: V2::new(x, 0.05),
+                    a2,
+                    b2,
+                    a3: on_cylinder(a2),
+                    b3: on_cylinder(b2),
                 }
             })
             .collect();
@@ -530,17 +704,31 @@ mod tests {
         r.mesh.topo.validate().unwrap();
         assert_eq!(r.mesh.topo.euler_characteristic(), 1);
         assert!((r.mesh.total_mass_kg() - mass0).abs() < 1e-12 * mass0);
-        // Rulings that do not run into the crease are edges.
+        // The rulings used (x = −1.5, 0, 1.5 cm) are edge chains, but perhaps the one through
+        // the crease.
         assert!(
-            r.rulings_as_edges >= 5,
+            r.rulings_as_edges >= 2,
             "{} rulings are edges",
             r.rulings_as_edges
         );
-        // Interpolated state: on the chord of the old surface, moving as it did.
-        for (p, v) in r.mesh.pos.iter().zip(&r.mesh.vel) {
+        // Transferred state: moving as it did, on the old surface.
+        let mut on_rulings = 0;
+        for ((p, v), q) in r.mesh.pos.iter().zip(&r.mesh.vel).zip(&r.mesh.pattern) {
             assert!((v - V3::new(0.0, 0.0, 1.0)).norm() < 1e-12);
             assert!(p.iter().all(|c| c.is_finite()));
+            // On the cylinder where a ruling (straight, isometric) carries the point, else on
+            // a chord of the lattice's triangles (sagging by at most h² / 8r = 0.3 mm).
+            let radial = (p.x * p.x + (p.z - radius_m).powi(2)).sqrt();
+            assert!(
+                radial <= radius_m + 1e-12 && radial >= radius_m - 4e-4,
+                "{p:?} at {q:?}"
+            );
+            if [0, 4].iter().any(|&i| (q.x - ruling_x(i)).abs() < 1e-12) {
+                assert!((p - on_cylinder(*q)).norm() < 1e-12, "{p:?} at {q:?}");
+                on_rulings += 1;
+            }
         }
+        assert!(on_rulings >= 2 * 9, "{on_rulings} vertices on the rulings");
         let [a, b] = sp.topo.edges[crease].v;
         let (na, nb) = (r.old_to_new[a as usize], r.old_to_new[b as usize]);
         let ne = r.mesh.topo.find_edge(na, nb).expect("the crease is kept") as usize;
@@ -557,6 +745,8 @@ mod tests {
             region: 0,
             a2: V2::new(-0.01, -0.05),
             b2: V2::new(0.012, 0.05),
+            a3: V3::new(-0.01, -0.05, 0.0),
+            b3: V3::new(0.012, 0.05, 0.0),
         }];
         let go = || {
             regenerate(

@@ -51,6 +51,7 @@ use crate::geometry::THETA0_RAD;
 use crate::geometry::{GeometryLayer, PendingFlip, PendingSingular};
 use crate::geometry::{RegionKind, TriKind};
 use crate::gesture_rig::GestureRig;
+use crate::gesture_rig::SavedHandDef;
 use crate::math::V3;
 use crate::metrics::MetricsTracker;
 use crate::physics::Physics;
@@ -93,7 +94,7 @@ impl Sim {
                     tri_parent,
                     ..
                 } = ins;
-                self.adopt_mesh(mesh, &tri_parent, None)
+                self.adopt_mesh(mesh, &tri_parent, None, false)
                     .ok()
                     .map(|()| vertex)
             });
@@ -217,6 +218,14 @@ impl Sim {
         self.sheet.sg.vertices.iter().for_each(|v| keep(v.sp_index));
         g.held.iter().chain(&g.junctions).for_each(|&v| keep(v));
         self.rig.ownership_state().0.iter().for_each(|o| keep(o.0));
+        // Every vertex of a holding hand (its handle vertices and their neighbours), so that
+        // the hand keeps them (adopt_mesh).
+        let holding: Vec<u8> = self.rig.ownership_state().0.iter().map(|o| o.1).collect();
+        for (k, d) in self.rig.hand_defs_state().iter().enumerate() {
+            if holding.contains(&(k as u8)) {
+                d.vertices.iter().for_each(|&v| keep(v));
+            }
+        }
         for (v, &f) in self.fixed.iter().enumerate() {
             if f {
                 keep(v as u32);
@@ -238,22 +247,25 @@ impl Sim {
                 region: r.region,
                 a2: r.a2,
                 b2: r.b2,
+                a3: r.a3,
+                b3: r.b3,
             })
             .collect();
         let spacing_m = self.cfg.mesh.spacing_m(self.sheet.size);
         let r = match regenerate::regenerate(sp, &tri_curved, &must_keep, &rulings, spacing_m) {
             Ok(r) => r,
-            Err(_) => {
-                self.regenerations.1 += 1;
+            Err(e) => {
+                self.regenerations.refuse(&e);
                 return;
             }
         };
         if r.unchanged(sp) {
+            self.regenerations.unchanged += 1;
             return;
         }
         let (cap_v, cap_t) = self.mesh_capacity;
         if r.mesh.num_vertices() > cap_v || r.mesh.num_triangles() > cap_t {
-            self.regenerations.1 += 1;
+            self.regenerations.capacity += 1;
             return;
         }
         let Regeneration {
@@ -264,18 +276,18 @@ impl Sim {
         } = r;
         // As an insertion: the old mesh is checked only when the new one crosses.
         if self.proximity.any_crossing(&mesh) && !self.proximity.any_crossing(&self.sheet.sp) {
-            self.regenerations.1 += 1;
+            self.regenerations.crossing += 1;
             return;
         }
         if self
-            .adopt_mesh(mesh, &tri_parent, Some(&old_to_new))
+            .adopt_mesh(mesh, &tri_parent, Some(&old_to_new), true)
             .is_err()
         {
-            self.regenerations.1 += 1;
+            self.regenerations.adoption += 1;
             return;
         }
         self.sheet.sg.pull_positions(&self.sheet.sp);
-        self.regenerations.0 += 1;
+        self.regenerations.adopted += 1;
     }
 
     /// The common end of a flip and a cut (a connectivity change with the sheet's shape kept):
@@ -293,7 +305,10 @@ impl Sim {
         if self.proximity.any_crossing(&mesh) && !self.proximity.any_crossing(&self.sheet.sp) {
             return false;
         }
-        if self.adopt_mesh(mesh, tri_parent, old_to_new).is_err() {
+        if self
+            .adopt_mesh(mesh, tri_parent, old_to_new, false)
+            .is_err()
+        {
             return false;
         }
         self.sheet.sg.pull_positions(&self.sheet.sp);
@@ -309,6 +324,7 @@ impl Sim {
         mesh: PhysMesh,
         tri_parent: &[u32],
         old_to_new: Option<&[u32]>,
+        keep_hands: bool,
     ) -> Result<(), String> {
         let map = |v: u32| match old_to_new {
             Some(m) => m
@@ -338,6 +354,29 @@ impl Sim {
             self.cfg.seed,
         )?;
         let mut rig = GestureRig::new(&sheet, self.cfg.room.home_height_m());
+        if keep_hands {
+            // The hands hold the vertices they held (renumbered), not the ones the new mesh's
+            // neighbourhoods would give: every hand whose vertices all survive keeps them.
+            let fresh = rig.hand_defs_state();
+            let defs: Vec<SavedHandDef> = self
+                .rig
+                .hand_defs_state()
+                .into_iter()
+                .zip(fresh)
+                .map(|(mut old, fresh)| {
+                    let mapped: Result<Vec<u32>, String> =
+                        old.vertices.iter().map(|&v| map(v)).collect();
+                    match mapped {
+                        Ok(v) => {
+                            old.vertices = v;
+                            old
+                        }
+                        Err(_) => fresh,
+                    }
+                })
+                .collect();
+            rig.restore_hand_defs(&defs)?;
+        }
         rig.state = self.rig.state.clone();
         let (mut ownership, suppressed, pending) = self.rig.ownership_state();
         for o in &mut ownership {
