@@ -5,6 +5,8 @@
 //! never lost, the same input gives the same bits, and a sheet saved mid-scene continues
 //! bit-identically. With the mode off (the default) nothing is regenerated.
 
+mod common;
+
 use sim_core::scenario;
 use sim_core::scenario_run::state_hash;
 use sim_core::script_runner::ScriptRunner;
@@ -96,25 +98,6 @@ fn a_regenerating_sheet_saved_mid_scene_continues_bit_identically() {
     let saved = sim.save();
     let mut restored = Sim::restore(cfg, &saved).unwrap();
     assert_eq!(state_hash(&restored), state_hash(&sim));
-    let (mut o1, mut o2) = (FrameOutput::default(), FrameOutput::default());
-    let mut cmds = Vec::new();
-    let mut n = 0;
-    while {
-        cmds.clear();
-        runner.next_frame(&mut cmds)
-    } {
-        for c in &cmds {
-            sim.apply(*c);
-            restored.apply(*c);
-        }
-        sim.step(&mut o1);
-        restored.step(&mut o2);
-        assert_eq!(
-            state_hash(&sim),
-            state_hash(&restored),
-            "diverged at frame {n} after the restore"
-        );
-        n += 1;
-    }
+    let n = common::continue_identically("c4_double_bend", &mut runner, &mut sim, &mut restored);
     assert!(n > 100);
 }

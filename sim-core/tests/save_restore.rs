@@ -48,33 +48,7 @@ fn json_round_trip_is_byte_identical_and_continues_bit_identically() {
         );
         assert_eq!(state_hash(&restored), state_hash(&sim));
         // Continue both with the rest of the script: identical bits every frame.
-        let mut cmds = Vec::new();
-        let (mut o1, mut o2) = (FrameOutput::default(), FrameOutput::default());
-        let mut n = 0;
-        while {
-            cmds.clear();
-            runner.next_frame(&mut cmds)
-        } {
-            for c in &cmds {
-                sim.apply(*c);
-                restored.apply(*c);
-            }
-            sim.step(&mut o1);
-            restored.step(&mut o2);
-            assert_eq!(
-                state_hash(&sim),
-                state_hash(&restored),
-                "{name}: diverged at frame {n}"
-            );
-            assert_eq!(o1.stats, o2.stats);
-            assert_eq!(
-                o1.sound.crumple(),
-                o2.sound.crumple(),
-                "{name}: crumple events differ at frame {n}"
-            );
-            assert_eq!(o1.sound.friction(), o2.sound.friction());
-            n += 1;
-        }
+        let n = common::continue_identically(name, &mut runner, &mut sim, &mut restored);
         assert!(n > 100);
     }
 }

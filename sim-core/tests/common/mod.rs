@@ -5,7 +5,9 @@
 
 pub mod json_mutation;
 
-use sim_core::sim::{SavedSheet, Sim, SimConfig};
+use sim_core::scenario_run::state_hash;
+use sim_core::script_runner::ScriptRunner;
+use sim_core::sim::{FrameOutput, SavedSheet, Sim, SimConfig};
 use sim_core::stress::StressFixture;
 
 /// Restores a sheet saved as JSON: a regression fixture of `tests/fixtures/`, written by
@@ -29,4 +31,43 @@ pub fn positions_finite(sim: &Sim) -> bool {
         .pos
         .iter()
         .all(|p| p.iter().all(|c| c.is_finite()))
+}
+
+/// Plays the rest of `runner`'s script on `sim` and on `restored` (a sheet restored from it)
+/// side by side, and asserts that they stay identical every frame: state bits, frame stats,
+/// crumple and friction events. Returns the frames played.
+pub fn continue_identically(
+    name: &str,
+    runner: &mut ScriptRunner,
+    sim: &mut Sim,
+    restored: &mut Sim,
+) -> u64 {
+    let mut cmds = Vec::new();
+    let (mut o1, mut o2) = (FrameOutput::default(), FrameOutput::default());
+    let mut n = 0;
+    while {
+        cmds.clear();
+        runner.next_frame(&mut cmds)
+    } {
+        for c in &cmds {
+            sim.apply(*c);
+            restored.apply(*c);
+        }
+        sim.step(&mut o1);
+        restored.step(&mut o2);
+        assert_eq!(
+            state_hash(sim),
+            state_hash(restored),
+            "{name}: diverged at frame {n}"
+        );
+        assert_eq!(o1.stats, o2.stats);
+        assert_eq!(
+            o1.sound.crumple(),
+            o2.sound.crumple(),
+            "{name}: crumple events differ at frame {n}"
+        );
+        assert_eq!(o1.sound.friction(), o2.sound.friction());
+        n += 1;
+    }
+    n
 }
