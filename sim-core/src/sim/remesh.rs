@@ -217,12 +217,12 @@ impl Sim {
         };
         self.sheet.sg.vertices.iter().for_each(|v| keep(v.sp_index));
         g.held.iter().chain(&g.junctions).for_each(|&v| keep(v));
-        self.rig.ownership_state().0.iter().for_each(|o| keep(o.0));
+        let ownership = self.rig.ownership_state().0;
+        ownership.iter().for_each(|o| keep(o.0));
         // Every vertex of a holding hand (its handle vertices and their neighbours), so that
         // the hand keeps them (adopt_mesh).
-        let holding: Vec<u8> = self.rig.ownership_state().0.iter().map(|o| o.1).collect();
         for (k, d) in self.rig.hand_defs_state().iter().enumerate() {
-            if holding.contains(&(k as u8)) {
+            if ownership.iter().any(|o| usize::from(o.1) == k) {
                 d.vertices.iter().for_each(|&v| keep(v));
             }
         }
