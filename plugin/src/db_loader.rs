@@ -205,36 +205,17 @@ impl DbLoader {
     }
 }
 
-/// Loads and prepares a user database; the error is one line.
+/// Loads and prepares a user database ([`crate::render::user_db::load`]); the error is one
+/// line.
 pub fn load(path: &Path, sample_rate_hz: f64) -> Result<(Arc<SoundDb>, DbState), String> {
-    let (db, warnings) =
-        SoundDb::load(path, sample_rate_hz).map_err(|e| one_line(&e.to_string()))?;
-    if db.num_units() == 0 {
-        return Err("the database holds no usable units".into());
-    }
+    let (db, info) = crate::render::user_db::load(path, sample_rate_hz)?;
     let state = DbState::Ready {
         path: path.to_path_buf(),
-        name: db.info().name.clone(),
-        units: db.num_units(),
-        warnings: warnings.iter().map(|w| w.to_string()).collect(),
+        name: info.name,
+        units: info.units,
+        warnings: info.warnings,
     };
-    Ok((Arc::new(db), state))
-}
-
-/// An error message on one line (the editor's status line, `papier-render`'s error): a TOML
-/// parser's multi-line report keeps its text and drops its source excerpt and caret.
-fn one_line(message: &str) -> String {
-    message
-        .lines()
-        .map(str::trim)
-        .filter(|l| {
-            let excerpt = l
-                .trim_start_matches(|c: char| c.is_ascii_digit())
-                .trim_start();
-            !l.is_empty() && !excerpt.starts_with('|')
-        })
-        .collect::<Vec<_>>()
-        .join(": ")
+    Ok((db, state))
 }
 
 /// The persisted form of the user database folder (`null` = embedded default).
@@ -401,21 +382,6 @@ mod tests {
         assert_eq!(db.num_units(), embedded.num_units());
         assert_ne!(db.num_units(), units);
         assert!(matches!(loader.state(), DbState::Failed { .. }));
-    }
-
-    /// Detects a multi-line error (the TOML parser's source excerpt) reaching the one-line
-    /// status, and a one-line error that is altered.
-    #[test]
-    fn errors_are_one_line() {
-        let toml = "manifest m.toml is not valid: TOML parse error at line 3, column 13\n  |\n3 | \
-                    name = [oops\n  |             ^\nunclosed array, expected `]`\n";
-        assert_eq!(
-            one_line(toml),
-            "manifest m.toml is not valid: TOML parse error at line 3, column 13: \
-             unclosed array, expected `]`"
-        );
-        let plain = "sound database folder /x does not exist or is not a folder";
-        assert_eq!(one_line(plain), plain);
     }
 
     /// Detects a load requested at the old rate (a project loaded before the host activates

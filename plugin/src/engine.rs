@@ -31,38 +31,41 @@
 //!   on how the host splits blocks, and two renders give identical bits.
 //!
 //! In both modes frame `k` is stepped when the audio clock reaches the end of its span, after
-//! applying every command stamped before that end ([`frame_clock`]).
+//! applying every command stamped before that end ([`frame_clock`]), by the one frame loop
+//! ([`frame_loop`]).
+//!
+//! The engine knows no plugin framework: the plugin face adapts nice-plug's parameters, events
+//! and persistence to it, and hands it the allocation checker's permit ([`AllocPermit`]).
 
 pub mod frame_clock;
+pub mod frame_loop;
 pub mod messages;
 pub mod meters;
 pub mod param_values;
+pub mod sheet_store;
 pub mod view;
 pub mod volume_changes;
 pub mod worker;
 
-use std::collections::VecDeque;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 
 use sim_core::sound_input::SoundFrame;
-use sim_core::{Command, FrameOutput, GestureParam, Sim};
+use sim_core::{Command, GestureParam, Sim};
 use sounddb::SoundDb;
 
 pub use self::frame_clock::FrameClock;
-use self::messages::{
-    COMMAND_QUEUE_CAPACITY, EVENT_QUEUE_CAPACITY, SimEventKind, SimSnapshot, WorkerMsg,
-    WorkerMsgKind,
-};
+pub use self::frame_loop::{AllocPermit, permit_always};
+use self::frame_loop::{FrameLoop, PublishRule};
+use self::messages::{EVENT_QUEUE_CAPACITY, SimEvent, SimSnapshot, WorkerMsg, WorkerMsgKind};
 pub use self::meters::Meters;
-pub use self::param_values::{ParamError, ParamValues};
-use self::view::ViewPublisher;
+pub use self::param_values::{ParamError, ParamValues, sim_config};
+pub use self::sheet_store::SheetStore;
 pub use self::view::{ViewFrame, ViewShared};
 use self::volume_changes::VolumeChanges;
 use self::worker::{WorkerHandle, WorkerShared, WorkerState};
 use crate::gesture_map::{self, Action, MidiInput};
 use crate::render::{MixLevels, Renderer, Scene};
-use crate::state::SheetStore;
 
 /// How the sheet is simulated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,7 +77,7 @@ pub enum SimMode {
 }
 
 /// Brings a freshly built sheet's gestures in line with the parameters (its size, material,
-/// seed and room come from [`crate::sim_config`]). Only what differs is applied.
+/// seed and room come from [`sim_config`]). Only what differs is applied.
 pub fn sync_fresh_sim(sim: &mut Sim, params: &ParamValues) {
     for g in GestureParam::ALL {
         let value = params.gestures[g.index()];
@@ -96,17 +99,9 @@ pub enum EngineError {
 }
 
 struct Lockstep {
-    sim: Box<Sim>,
-    out: Box<FrameOutput>,
-    next_frame: u64,
-    pending: VecDeque<(u64, WorkerMsgKind)>,
-    was_awake: bool,
-    /// A frame moved the sheet since it was last published.
-    unpublished: bool,
-    /// Store generation the sheet is based on (publishes are refused after a newer load).
-    sheet_generation: u64,
-    view: ViewPublisher,
-    view_shared: Arc<ViewShared>,
+    frames: FrameLoop,
+    /// Runs what may allocate on the audio thread (a rebuild, a mesh change, a publish).
+    permit: AllocPermit,
 }
 
 struct Threaded {
@@ -196,7 +191,9 @@ impl Engine {
     /// first [`Engine::begin_block`] sends what differs from them): for a fresh sheet, the values
     /// it was built and [synced](sync_fresh_sim) with; for a sheet kept across a deactivation,
     /// the values at deactivation; for a sheet restored from a project, the loaded values.
-    /// Allocates (call from `activate()` or offline code).
+    /// `permit` runs what may allocate on the thread that calls [`Engine::render`] in lockstep
+    /// mode (the plugin passes its allocation checker's permit; offline code
+    /// [`permit_always`]). Allocates (call from `activate()` or offline code).
     pub fn new(
         mode: SimMode,
         sample_rate_hz: f64,
@@ -207,6 +204,7 @@ impl Engine {
         store_generation: u64,
         meters: Arc<Meters>,
         view: Arc<ViewShared>,
+        permit: AllocPermit,
     ) -> Result<Self, EngineError> {
         let frames = FrameClock::new(sample_rate_hz, sim.config().frame_rate_hz);
         let mut renderer = Renderer::new(sample_rate_hz, db, params.seed);
@@ -216,27 +214,21 @@ impl Engine {
         renderer.snap_gains();
         let host = match mode {
             SimMode::Lockstep => Host::Lockstep(Lockstep {
-                sim: Box::new(sim),
-                out: Box::default(),
-                next_frame: 0,
-                pending: VecDeque::with_capacity(COMMAND_QUEUE_CAPACITY),
-                was_awake: false,
-                unpublished: false,
-                sheet_generation: store_generation,
-                view: ViewPublisher::install(&view),
-                view_shared: view.clone(),
+                frames: FrameLoop::new(sim, store_generation, &view, PublishRule::EveryBlock),
+                permit,
             }),
             SimMode::Threaded => {
                 let shared = Arc::new(WorkerShared::new(EVENT_QUEUE_CAPACITY));
                 let (input, output) = triple_buffer::triple_buffer(&SimSnapshot::default());
                 let worker = WorkerHandle::spawn(
                     WorkerState {
-                        sim,
+                        frames: FrameLoop::new(
+                            sim,
+                            store_generation,
+                            &view,
+                            PublishRule::RestAndInterval,
+                        ),
                         clock: frames,
-                        next_frame: 0,
-                        store_generation,
-                        view: ViewPublisher::install(&view),
-                        view_shared: view.clone(),
                     },
                     shared.clone(),
                     input,
@@ -294,7 +286,7 @@ impl Engine {
     /// The sheet, when it is stepped inline (lockstep mode).
     pub fn lockstep_sim(&self) -> Option<&Sim> {
         match &self.host {
-            Host::Lockstep(l) => Some(&l.sim),
+            Host::Lockstep(l) => Some(l.frames.sim()),
             Host::Threaded(_) => None,
         }
     }
@@ -342,9 +334,7 @@ impl Engine {
     fn send(&mut self, at_sample: u64, kind: WorkerMsgKind) {
         match &mut self.host {
             Host::Lockstep(l) => {
-                if l.pending.len() < l.pending.capacity() {
-                    l.pending.push_back((at_sample, kind));
-                } else {
+                if !l.frames.queue(WorkerMsg { at_sample, kind }) {
                     self.meters.commands_dropped.fetch_add(1, Ordering::Relaxed);
                 }
             }
@@ -376,12 +366,8 @@ impl Engine {
             // it, and its gesture state (which may come from MIDI CCs) is kept: the latest change
             // before the save wins, as it did while playing.
             self.store_generation = generation;
-            // The loaded room first: a sheet is restored in the room of the sim's configuration
-            // (`Sim::restore`), and it continues as saved only in the room it was saved in.
-            if p.room != self.last.room {
-                self.command(at, Command::Room(p.room));
-            }
-            self.send(at, WorkerMsgKind::RestoreSheet);
+            // In the loaded room: a sheet continues as saved only in the room it was saved in.
+            self.send(at, WorkerMsgKind::RestoreSheet { room: p.room });
         } else {
             if p.size != self.last.size {
                 self.command(at, Command::Size(p.size));
@@ -451,79 +437,34 @@ impl Engine {
 
     /// Renders one block into `left` and `right` (same length, any length). Allocation-free in
     /// threaded mode; in lockstep mode only a sheet rebuild (reset, size change, restore), a
-    /// step that inserts a vertex for a singular point or flips an edge
-    /// (`Sim::refinement_pending`) or the
-    /// publish for the saved project at the end of a block in which the sheet moved allocates,
-    /// and those are permitted explicitly.
+    /// step that changes the mesh (`Sim::refinement_pending`) and the publish for the saved
+    /// project at the end of a block in which the sheet moved allocate, inside the permit.
     pub fn render(&mut self, left: &mut [f32], right: &mut [f32]) {
         let n = left.len().min(right.len());
         match &mut self.host {
             Host::Lockstep(l) => {
                 // The sheet was built on another thread than this one: the solver's dense
                 // kernels make their lazy first-use allocations on a thread's first call
-                // (once; a no-op afterwards), permitted offline like a rebuild.
-                nice_plug::util::permit_alloc(sim_core::warm_up_thread);
+                // (once; a no-op afterwards), permitted like a rebuild.
+                (l.permit)(&mut sim_core::warm_up_thread);
                 let mut pos = 0usize;
                 loop {
-                    let end = self.frames.end(l.next_frame);
+                    let end = self.frames.end(l.frames.next_frame());
                     if end <= self.clock + pos as u64 {
-                        while l.pending.front().is_some_and(|(at, _)| *at < end) {
-                            let Some((_, kind)) = l.pending.pop_front() else {
-                                break;
-                            };
-                            match kind {
-                                WorkerMsgKind::Command(cmd) => {
-                                    let rebuilds = matches!(cmd, Command::Reset | Command::Size(_));
-                                    if rebuilds {
-                                        nice_plug::util::permit_alloc(|| l.sim.apply(cmd));
-                                    } else {
-                                        l.sim.apply(cmd);
-                                    }
-                                }
-                                WorkerMsgKind::RestoreSheet => {
-                                    let store = &self.store;
-                                    let generation = l.sheet_generation;
-                                    l.sheet_generation = nice_plug::util::permit_alloc(|| {
-                                        worker::restore_from_store(&mut l.sim, store, generation)
-                                    });
-                                    l.was_awake = false;
-                                }
-                            }
-                        }
-                        if l.sim.refinement_pending() {
-                            // This step inserts an S_P vertex for a singular point or
-                            // flips an edge (a new mesh): announced by the sim, permitted
-                            // like a reset.
-                            nice_plug::util::permit_alloc(|| {
-                                worker::step_frame(&mut l.sim, &mut l.out, &self.meters)
-                            });
-                        } else {
-                            worker::step_frame(&mut l.sim, &mut l.out, &self.meters);
-                        }
-                        Self::deliver(&mut self.renderer, &l.out.sound, &self.meters);
+                        let out = l
+                            .frames
+                            .step(&self.frames, &self.store, &self.meters, l.permit);
+                        Self::deliver(&mut self.renderer, &out.sound, &self.meters);
                         if let Some(rec) = &mut self.recorded {
-                            nice_plug::util::permit_alloc(|| rec.push(l.out.sound));
+                            let sound = out.sound;
+                            (l.permit)(&mut || rec.push(sound));
                         }
-                        l.view.after_frame(&l.view_shared, &l.sim, &l.out.stats);
-                        // The sheet moved, or came to rest, this frame: published at the
-                        // block's end, so a save between blocks holds it as it is.
-                        let awake = !l.out.stats.asleep;
-                        l.unpublished |= awake || l.was_awake;
-                        l.was_awake = awake;
-                        l.next_frame += 1;
                         continue;
                     }
                     if pos >= n {
-                        if l.unpublished {
-                            let store = &self.store;
-                            let generation = l.sheet_generation;
-                            let sim = &l.sim;
-                            // Offline: the host does not wait for this block in real time.
-                            let published = nice_plug::util::permit_alloc(|| {
-                                store.try_publish(sim.save(), generation)
-                            });
-                            l.unpublished = !published;
-                        }
+                        // Published at the block's end, so a save between blocks holds the
+                        // sheet as it is.
+                        l.frames.end_block(&self.store, l.permit);
                         break;
                     }
                     let now = self.clock + pos as u64;
@@ -546,8 +487,8 @@ impl Engine {
                     }
                 }
                 while let Some(ev) = t.shared.events.pop() {
-                    match ev.kind {
-                        SimEventKind::Crumple(e) => {
+                    match ev {
+                        SimEvent::Crumple(e) => {
                             self.renderer.trigger(&e);
                             self.meters.crumple_events.fetch_add(1, Ordering::Relaxed);
                         }
@@ -590,11 +531,8 @@ impl Engine {
     /// Stops the engine and returns the sheet and the store generation it is based on.
     pub fn into_sim(self) -> Option<(Sim, u64)> {
         match self.host {
-            Host::Lockstep(l) => Some((*l.sim, l.sheet_generation)),
-            Host::Threaded(t) => {
-                let st = t.worker.stop()?;
-                Some((st.sim, st.store_generation))
-            }
+            Host::Lockstep(l) => Some(l.frames.into_sim()),
+            Host::Threaded(t) => Some(t.worker.stop()?.frames.into_sim()),
         }
     }
 }

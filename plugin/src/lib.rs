@@ -11,7 +11,7 @@
 //! - [`gesture_map`]: MIDI → gesture commands (shared with `papier-render`);
 //! - [`engine`]: parameter diffing, the simulation thread / lockstep stepping, the render call;
 //! - [`render`]: the audio render path (no nice-plug types);
-//! - [`state`]: the sheet saved with the project;
+//! - [`state`]: the sheet saved with the project (the persistence adapter);
 //! - [`state_check`]: a saved state's version and parameters checked before they load;
 //! - [`db_loader`]: the embedded or user sound database, loaded off the audio thread;
 //! - [`editor`]: the egui window;
@@ -31,24 +31,13 @@ use std::num::NonZeroU32;
 use std::sync::Arc;
 
 use nice_plug::prelude::*;
-use sim_core::{Sim, SimConfig};
+use sim_core::Sim;
 use sounddb::SoundDb;
 
 use crate::editor::window_threads::WindowThreads;
-use crate::engine::{Engine, Meters, ParamValues, SimMode, ViewShared};
+use crate::engine::{Engine, Meters, ParamValues, SimMode, ViewShared, sim_config};
 use crate::gesture_map::MidiInput;
 use crate::params::PapierParams;
-
-/// The sim config a fresh sheet gets from the parameters.
-pub fn sim_config(p: &ParamValues) -> SimConfig {
-    SimConfig {
-        size: p.size,
-        material: p.material,
-        seed: p.seed,
-        room: p.room,
-        ..SimConfig::default()
-    }
-}
 
 /// Converts a nice-plug note event into the engine's MIDI input; `None` for events Papier does
 /// not use.
@@ -130,6 +119,12 @@ impl Papier {
     }
 }
 
+/// The allocation checker's permit (`assert_process_allocs`), handed to the engine for what
+/// it may allocate on the audio thread in offline (lockstep) mode.
+fn permit_alloc(f: &mut dyn FnMut()) {
+    nice_plug::util::permit_alloc(f);
+}
+
 /// How long closing the plugin waits for an editor window thread baseview did not join.
 const WINDOW_THREAD_PATIENCE: std::time::Duration = std::time::Duration::from_secs(2);
 
@@ -209,13 +204,9 @@ impl Plugin for Papier {
             (sim, 0, values)
         });
         if generation != store.generation() {
-            // A project was loaded: its sheet goes with its parameters, in its room (a sheet is
-            // restored in the room of the sim's configuration, and a parked sim has the room
-            // it was parked with).
-            if sim.config().room != values.room {
-                sim.apply(sim_core::control::Command::Room(values.room));
-            }
-            generation = engine::worker::restore_from_store(&mut sim, &store, generation);
+            // A project was loaded: its sheet goes with its parameters, in its room.
+            generation =
+                engine::frame_loop::restore_sheet(&mut sim, &store, generation, values.room);
             reflected = values;
         }
         match Engine::new(
@@ -228,6 +219,7 @@ impl Plugin for Papier {
             generation,
             self.meters.clone(),
             self.view.clone(),
+            permit_alloc,
         ) {
             Ok(mut engine) => {
                 engine.start_sound_at(&values);

@@ -31,28 +31,14 @@ use sim_core::{GestureParam, Material, RoomConfig, SheetSize};
 use crate::db_loader::DbLoader;
 use crate::editor::window_size::EditorSize;
 use crate::engine::ParamValues;
-use crate::state::SheetStore;
+use crate::engine::param_values::{
+    DEFAULT_FRICTION_DB, DEFAULT_OUTPUT_DB, GAIN_RANGE_DB, LISTENER_DIST_RANGE_M, MAX_SEED,
+};
+use crate::engine::sheet_store::SheetStore;
 
 /// Version of the plugin state layout (parameters + persisted fields). Bumped on any change
 /// that needs a migration in `Plugin::filter_state`.
 pub const STATE_VERSION: u32 = 1;
-
-/// Range of the mix and output gains, dB. The bottom of the range is "off" (silence).
-pub const GAIN_RANGE_DB: (f32, f32) = (-60.0, 12.0);
-
-/// Default friction level, dB: friction is linear in slip speed (T 1770), so a fast crumple
-/// rubs the table at several times the recording speed; −12 dB keeps the default mix clear of
-/// the output's soft clipper with crumple units at 0 dB.
-pub const DEFAULT_FRICTION_DB: f32 = -12.0;
-
-/// Default output gain, dB: 6 dB of headroom for the bursts of a fast crumple's release.
-pub const DEFAULT_OUTPUT_DB: f32 = -6.0;
-
-/// Range of the listener distance, metres.
-pub const LISTENER_DIST_RANGE_M: (f32, f32) = (0.2, 5.0);
-
-/// Largest seed.
-pub const MAX_SEED: i32 = 65_535;
 
 /// Sheet size choice.
 #[derive(Enum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -432,5 +418,41 @@ impl PapierParams {
             mix_tear_db: self.mix.tear_db.value(),
             gain_db: self.gain_db.value(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `PARAM_IDS` is written by hand; the plugin's parameter list comes from the `#[id]`s of
+    /// `params.rs` through the `Params` derive. Same ids, same order (the order hosts list them
+    /// in), so neither can change without the other.
+    #[test]
+    fn param_ids_match_the_plugin_parameters() {
+        use nice_plug::prelude::Params;
+        let params = PapierParams::default();
+        let plugin: Vec<String> = params
+            .param_map()
+            .into_iter()
+            .map(|(id, _, _)| id)
+            .collect();
+        let table: Vec<String> = crate::engine::param_values::PARAM_IDS
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        for id in &plugin {
+            assert!(
+                table.contains(id),
+                "parameter `{id}` of params.rs is missing from PARAM_IDS"
+            );
+        }
+        for id in &table {
+            assert!(
+                plugin.contains(id),
+                "PARAM_IDS lists `{id}`, which params.rs does not declare"
+            );
+        }
+        assert_eq!(plugin, table, "PARAM_IDS is not in the plugin's order");
     }
 }

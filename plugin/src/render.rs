@@ -18,8 +18,8 @@
 //! [`unit_player`] (one voice), [`frac_delay`] (Lagrange taps), [`dipole`] (eq. 4.1–4.12, images,
 //! comb), [`ears`] (stereo listener), [`friction`] (iFFT OLA), [`tearing`] (crackle noise),
 //! [`smoothing`] (mix and per-frame interpolation), [`output_stage`] (safety clip), [`counters`]
-//! (proof of the skips), [`rng`] (seeded noise), [`frame_log`] (JSON-lines sound input),
-//! [`mod@default_db`] (the embedded database).
+//! (proof of the skips), [`rng`] (seeded noise), [`mod@default_db`] (the embedded database),
+//! [`user_db`] (a user's database folder, loaded and prepared).
 //!
 //! ## Real-time contract
 //!
@@ -52,13 +52,13 @@ pub mod default_db;
 pub mod dipole;
 pub mod ears;
 pub mod frac_delay;
-pub mod frame_log;
 pub mod friction;
 pub mod output_stage;
 pub mod rng;
 pub mod smoothing;
 pub mod tearing;
 pub mod unit_player;
+pub mod user_db;
 pub mod voice_bus;
 pub mod voice_pool;
 

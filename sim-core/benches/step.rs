@@ -2,15 +2,15 @@
 //!
 //! Each bench restores a saved mid-scenario state (so every sample starts from the same sheet,
 //! hands and gestures) and steps 10 frames while the scenario's gestures keep the hands moving.
-//! Groups: the default solver on four scenarios, the XPBD comparison solver, and the default
-//! solver at several mesh densities (cost against size); and the rebuild of everything sized by
-//! the mesh, which each vertex insertion, edge flip or strip cut pays; and the two contact queries
+//! Groups: the default solver on four scenarios and at several mesh densities (cost against
+//! size); the rebuild of everything sized by the mesh, which each vertex insertion or edge flip
+//! pays, and a cut along a pattern line (the mesh operation tearing builds on); and the two
+//! contact queries
 //! of a crumpled sheet (the crumple cap's closest approach, the sheet–sheet contact pairs of a
 //! substep). The full run-time-against-error report
 //! (all scenarios, sweeps, percentiles, plot) is `cargo xtask bench-report`.
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
-use sim_core::physics::{SolverConfig, SolverKind};
 use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sheet::MeshConfig;
@@ -78,25 +78,6 @@ fn default_solver(c: &mut Criterion) {
     }
 }
 
-fn xpbd_solver(c: &mut Criterion) {
-    let base = SimConfig {
-        solver: SolverConfig {
-            kind: SolverKind::Xpbd,
-            substeps: 20,
-            iterations: 1,
-            ..SolverConfig::default()
-        },
-        ..SimConfig::default()
-    };
-    bench_state(
-        c,
-        "xpbd_20/c5_full_crumple/10_frames",
-        "c5_full_crumple",
-        400,
-        base,
-    );
-}
-
 fn density(c: &mut Criterion) {
     for k in [5.0, 9.0, 18.0, 31.0] {
         let base = SimConfig {
@@ -115,33 +96,24 @@ fn density(c: &mut Criterion) {
     }
 }
 
-/// Rebuilding everything sized by the mesh — what a vertex insertion, an edge flip, a strip
-/// cut or a coarsening costs on top of its frame (`sim/remesh.rs` adopts the new mesh the way a
-/// saved sheet is restored): a crumpled C5 state with its inserted vertices, restored; and a
-/// collapse's new mesh.
+/// Rebuilding everything sized by the mesh — what a vertex insertion or an edge flip costs on
+/// top of its frame (`sim/remesh.rs` adopts the new mesh the way a saved sheet is restored): a
+/// crumpled C5 state with its inserted vertices, restored; and a cut along a pattern line.
 fn rebuild(c: &mut Criterion) {
     let (cfg, saved, _) = snapshot("c5_full_crumple", 400, SimConfig::default());
     c.bench_function("rebuild/c5_frame_400/restore", |b| {
         b.iter(|| Sim::restore(cfg, &saved).expect("restore"))
     });
-    // Coarsening's own part (`sheet/coarsen.rs`): a flat A4 lattice cut along an oblique line,
-    // then the last cut vertex collapsed into a neighbour (the new mesh with its state; the
-    // adoption after it costs what the restore above measures).
+    // The cut's own part (`sheet/cut.rs`): a flat A4 lattice cut along an oblique line (the new
+    // mesh with its state; the adoption after it costs what the restore above measures).
     let sp = Sim::new(SimConfig::default()).sheet().sp.clone();
     let (o, d) = (
         sim_core::math::V2::new(0.003, -0.002),
         sim_core::math::V2::new(0.8, 0.35),
     );
     let line = sim_core::sheet::cut::line_crossings(&sp, o, d).expect("a point on the sheet");
-    let cut = sim_core::sheet::cut::cut_along(&sp, &line)
-        .expect("cut")
-        .mesh;
-    let v = (sp.num_vertices() as u32..cut.num_vertices() as u32)
-        .rev()
-        .find(|&v| sim_core::sheet::coarsen::collapse_vertex(&cut, v, 0.01).is_ok())
-        .expect("a cut vertex collapses");
-    c.bench_function("rebuild/a4_cut/collapse_vertex", |b| {
-        b.iter(|| sim_core::sheet::coarsen::collapse_vertex(&cut, v, 0.01).expect("collapse"))
+    c.bench_function("rebuild/a4/cut_along", |b| {
+        b.iter(|| sim_core::sheet::cut::cut_along(&sp, &line).expect("cut"))
     });
 }
 
@@ -181,6 +153,6 @@ fn contact(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
-    targets = default_solver, xpbd_solver, density, rebuild, contact
+    targets = default_solver, density, rebuild, contact
 }
 criterion_main!(benches);

@@ -32,26 +32,16 @@
 //!
 //! **Depth limit.** A penalty yields in proportion to the force: a corner pressed into the
 //! table by a sheet that hands twist or pull down (seconds-long forces of newtons, far above
-//! its weight) sank up to 6 mm (measured in `c2_moebius_twist`). Beyond [`MAX_PENETRATION_M`]
+//! its weight) sank up to 6 mm in `c2_moebius_twist`. Beyond [`MAX_PENETRATION_M`]
 //! the penalty is [`HARD_CONTACT_FACTOR`] = 30 times stiffer (inside the implicit step's
 //! energy, so the solver lets the sheet give way elsewhere), and after every substep a free
 //! vertex still deeper is put back at that depth and loses the normal velocity with which it
 //! moves into the plane (relative to a moving plane): the table is rigid. The hard stage must
 //! hold a pressed vertex close to the limit by itself: putting a vertex back moves it away
 //! from the implicit step's equilibrium, and the next step pushes it in again. But a stiffer
-//! stage is a sharper kink in the energy for the Newton solver. Measured while choosing it
-//! (the 12 seed scenes; put-backs counted in `Sim::limit_penetration`, held frames with
-//! `examples/hold_probe.rs`, solver iterations per frame):
-//!
-//! | factor | C5 held on the table | C5 frames at the 10-iteration cap (with geometry / physics only) | `c2_moebius_twist` put-back (mean) |
-//! |---|---|---|---|
-//! | 10 | a vertex put back by 0.14 mm (mean) in 533 of 850 frames; 8 iterations per held frame, the ball never rests | 175 / 25 | 0.27 mm |
-//! | 30 | put back in 112 frames, ≤ 0.03 mm; 1 iteration per held frame, the ball sleeps | 27 / 38 | 0.11 mm |
-//! | 100 | put back in 22 frames, ≤ 0.07 mm; the ball sleeps | 69 / 246 | 0.03 mm |
-//!
-//! At 100 the physics-only crumple stalls at the cap in 246 frames (as when the factor was
-//! first lowered from 100 to 10), and the line search halves the step 2.2 times per frame in
-//! `c2_moebius_twist` (1.1 at 10, 1.6 at 30).
+//! stage is a sharper kink in the energy for the Newton solver. 30 is where both hold: at 10 a
+//! held ball was put back every frame and never came to rest, at 100 Newton stalled at its
+//! iteration cap (docs/decisions.md, "Obstacle depth limit: a ×30 hard stage").
 //!
 //! Shallower contacts keep the penalty's compliance, whose depth is the normal force that
 //! friction uses. Held vertices follow their hands (whose targets are kept out of the planes

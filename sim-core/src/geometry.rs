@@ -1,277 +1,103 @@
 //! # The developable-geometry layer (steps (d)–(h) of the seeds' frame loop)
 //!
-//! After the physics step has moved S_P and S_G has read its positions (steps (a)–(c),
-//! [`crate::sim`]), this layer runs the geometric analysis of the seeds (thesis §2.4–2.5,
-//! `000_cb4d91e46ec5927f.txt`; TOG 2015 §4–6, `001_44bc28f7c5e9f81f.txt`; spec:
-//! `../shared/notes/digest-crumpling.md` §3) and publishes what sound and tearing need
-//! ([`GeometryFrame`], read through `Sim::geometry`). Per awake frame, in the Fig. 16 order
-//! (digest §9 item 3: the documented Step 1 → 3 order, not Algorithm 1's):
+//! After the physics has moved S_P and S_G has read its positions (steps (a)–(c),
+//! [`crate::sim`]), this layer runs the seeds' geometric analysis on S_P and publishes what sound
+//! and tearing need ([`GeometryFrame`], read through `Sim::geometry`). Seeds: TOG 2015 §4–6
+//! (`001_44bc28f7c5e9f81f.txt`) and thesis §2.4–2.5 (`000_cb4d91e46ec5927f.txt`); spec:
+//! `../shared/notes/digest-crumpling.md` §3. A decision below names in quotes its section of
+//! `docs/decisions.md`, where its figures and the variants that lost are.
 //!
-//! 1. **Dihedral angles and local shape** of every S_P edge and triangle: the signed hinge
-//!    angle θ_e (the physics' own [`crate::physics::bending::dihedral`]) and, per triangle,
-//!    the discrete shape operator in the pattern, S̄_t = Σ_e θ_e |ē| / (2Ā_t) · m̄_e m̄_eᵀ
-//!    (m̄_e: in-plane unit normal of the pattern edge). Its large eigenvalue κ_t is the bending
-//!    curvature; the eigenvector of the small one is the local **ruling direction** r̄_t; the
-//!    bend across the triangle is β_t = |κ_t|·h_t (h_t: equilateral edge of the same area).
-//!    An edge much sharper than the triangle's two others ([`CREASE_DOMINANCE`]) is a crease
-//!    bounding a flat facet and is left out of that facet's shape operator, so a sharp fold
-//!    between two flat parts is seen as the seeds see it: two flat regions and a crease.
-//! 2. **Flat / curved classification with hysteresis** (§3.1, §3.6): a flat triangle turns
-//!    curved when β_t > θ_high = θ0 = 0.01 rad, a curved one turns flat again only when
-//!    β_t < θ_low = θ0/10 (P 792, T 965). Flat regions are the connected sets of flat triangles
-//!    joined across edges with |θ_e| < θ0 (the seeds' coplanarity, P 537–542), so a flat region
-//!    **splits** as soon as one of its edges bends beyond θ0 (T 813); an edge with |θ_e| ≥ θ0
-//!    between two flat regions is a **crease**, the seeds' degenerate one-ruling curved region
-//!    (T 740). Junction points are the boundary vertices where a flat and a curved triangle
-//!    meet (P 303–306); the hysteresis keeps them from oscillating (P 792–794, digest test 8),
-//!    and a curved region whose triangles all fall below θ_low becomes flat again (P 794–797).
-//!    **Edge flips** (§3.1, T 811–828, the thesis' `flip_edges` before `treat_compression`):
-//!    an interior S_P edge e1 between two flat triangles with |θ| < θ0 (so in one flat region)
-//!    that is compressed, c_e = (l̄ − l)/l̄ > ε_c, while the other diagonal x1–x2 of its quad
-//!    is not (3D length from the four vertices, rest length from the pattern), is flipped: the
-//!    quad's triangles (u, w, x1), (w, u, x2) become (u, x2, x1), (w, x1, x2). On a lattice
-//!    quad the other diagonal is perpendicular to e1, i.e. across the compression, where the
-//!    sheet buckles (the ruling direction v⊥ of §3.2) and where the lattice has no hinge. The
-//!    most compressed such edge of the frame is flipped by the sim at the start of the next
-//!    step ([`GeometryLayer::take_pending_flip`], [`crate::sheet::refine::flip_edge`]: state
-//!    carried over, masses re-lumped, `sim/remesh.rs`), one per frame, and reported as
-//!    [`ShapeEvent::EdgeFlipped`]. Guards (impl. choice): the edge carries no rest angle or
-//!    damage (a fold keeps its place), no vertex of the quad is held, next to a held vertex
-//!    or singular, both new triangles keep angles ≥ 20° in the pattern (the lattice's flip
-//!    gives 30°–30°–120°), the flip makes no crossing with another layer, and **the quad must
-//!    bend across the other diagonal** (|θ(x1–x2)| ≥ θ_low and larger than |θ(e1)|; Fig. 2.5's
-//!    lifted corner): a quad merely squeezed in its plane, as the whole sheet is at the onset
-//!    of a crumple, keeps its triangles. Measured without that guard
-//!    (`sim-core/examples/flip_probe.rs`): the first frames of C5 seed 7's squeeze flipped
-//!    eight lattice edges into 30°–30°–120° pairs and a later frame strained a triangle by
-//!    46 % (the scenario health limit is 10 %); with it, one flip or none per crumple run.
+//! ## One awake frame
+//!
+//! In the Fig. 16 order (digest §9 item 3: the documented Step 1 → 3 order, not Algorithm 1's):
+//!
+//! 1. **Local shape** (§3.1): the signed dihedral θ_e of every S_P edge
+//!    ([`crate::physics::bending::dihedral`]); per triangle the pattern shape operator
+//!    S̄_t = Σ_e θ_e |ē| / (2Ā_t) · m̄_e m̄_eᵀ (m̄_e: in-plane normal of edge e), whose large
+//!    eigenvalue κ_t is the curvature and whose other eigenvector is the ruling direction r̄_t;
+//!    β_t = |κ_t|·h_t is the bend across the triangle.
+//! 2. **Flat / curved classification** (§3.1, §3.6): flat → curved when β_t > θ0 = 0.01 rad,
+//!    back only when β_t < θ0/10 (hysteresis, P 792–797, T 965). Flat regions are flat triangles
+//!    joined across edges with |θ_e| < θ0 (P 537–542): a region splits when one of its edges
+//!    bends beyond θ0 (T 813), and that edge is a crease (T 740). Junctions are where flat meets
+//!    curved (P 303–306). **Edge flip** (T 811–828): the frame's most compressed flat-region edge
+//!    whose quad's other diagonal is not compressed is flipped by the sim at the start of the
+//!    next step ([`GeometryLayer::take_pending_flip`], [`crate::sheet::refine::flip_edge`]),
+//!    reported as [`ShapeEvent::EdgeFlipped`].
 //! 3. **Compression analysis** (§3.2): the stretch tensor of every flat triangle
-//!    ([`stretch`]); the most compressed one T_comp with c_t = 1 − λ_min > ε_c starts a pass.
-//!    **Addition (impl. choice):** a *curved* triangle compressed along its own, well-defined
-//!    ruling direction (|κ_small/κ_big| < [`ANISO_MAX`], compression direction within
-//!    [`CONFLICT_RAD`] of the ruling) by more than `curved_eps_factor`·ε_c (40) also starts a
-//!    pass, as a case A conflict in place (singular point about its most bent edge). The
-//!    seeds never need this because their curved regions are developable by construction;
-//!    on our fixed S_P a curved region compressed along its generators is exactly the
-//!    situation that buckles into a d-cone (P 685–692). Triangles touching a held vertex do
-//!    not start passes, nor do their neighbours (the hand's constraint strains them), and a singular vertex is never
-//!    placed on or next to a held vertex (the pinch).
-//! 4. **Imaginary-ruling propagation** (§3.3, Appendix A): from T_comp along ±v⊥ in the
-//!    pattern ([`walk`]), through flat triangles of the same region, until a border: the sheet
-//!    boundary (free border, case b), a crease (case c), or a curved region. A curved region
-//!    whose own rulings are parallel to v⊥ (within [`CONFLICT_RAD`]) is simply extended; one
-//!    whose rulings conflict continues the propagation through it to the first ruling bent
-//!    beyond θ_sing (e_sing, case d, P 693–704). θ_sing is θ0 scaled by the ratio of the S_P
-//!    edge to the seeds' ruling spacing 1/ρ_bound (the dihedral between two of our triangles
-//!    spans that many of the seeds' rulings); a curved region counts as conflicting only if it
-//!    is bent beyond θ_sing with a well-defined ruling direction (a weakly bent or twisted one
-//!    simply grows). Border types: {∂S, ∂S} → a generalized cylinder
-//!    (rulings ∥ v⊥, Fig. 7); {∂S, singular} → a cone through the new singular point
-//!    (Fig. 8); {singular, singular} → degenerate (Fig. 9). The strip's triangles become curved
-//!    (the new curved region). Up to [`GeometryConfig::max_passes`] passes per frame (digest
-//!    §3.4 impl. choice); a triangle that started a pass waits [`REFRACTORY_FRAMES`].
-//! 5. **Singular-vertex generation** (§3.5) at crease and conflicting-ruling borders: s̄ is
-//!    drawn with the seeds' law about ē_sing ([`placement`], seeded RNG, σ from the material).
-//!    Persistent: never removed, never moved in 2D.
-//!    **Addition (impl. choice): non-developable vertices.** The seeds' physics leaves flat
-//!    triangles compressed by ≈ 1 % (their physics-only c_mean 0.9–1.5 %), so compression
-//!    analysis alone finds their d-cones. Our Newton step runs to convergence on a fine,
-//!    fully bendable S_P (c_mean ≈ 0.01 %): squeezed, the lattice folds at its own edges
-//!    instead of compressing, and the full crumple found no compressed flat triangle at all.
-//!    What it does show is where ruling families meet: the Gauss image of a vertex's 1-ring
-//!    (its triangles' unit normals) lies along one arc at a developable point (cylinder,
-//!    cone, twist) and spreads in two directions where two bends cross. With φ the minor
-//!    spread (√ of the small eigenvalue of the normals' covariance in their mean tangent
-//!    plane), a smooth doubly curved cap of that extent would need a compression of about
-//!    φ²/6 (chord ratio sin φ/φ); a vertex with φ²/6 > `gauss_eps_factor`·ε_c (15, calibrated
-//!    on the seed scenarios: twist 0, double bend 1–4, full crumple ≥ 15 at the median over seeds) becomes singular
-//!    (case [`SingularCase::NonDevelopable`]), most spread first, ≥ `gauss_min_spacing_m`
-//!    (2 cm) from existing singular vertices. Being tied to ε_c, a thicker paper gets fewer
-//!    points and the ε_c sweep of Fig. 21 stays monotone.
-//! 6. **Fibre damage** (§2.3, P eq. 1, T eq. 2.1–2.2): around a new singular vertex i with
-//!    N_i incident S_P edges, every incident edge gets rest angle += ±Θ_rest/N_i (Θ_rest = π/8)
-//!    with the sign of its current fold (digest §9 item 8: interior vertices only, sign at
-//!    creation) and damage += D/N_i (D = 10, k_b/(1 + d)): the physics then keeps the d-cone,
-//!    so a crumpled sheet does not spring back flat, while a smoothly bent one does (P 489–491).
-//! 7. **Region partition, rulings, free borders** (§5.1): curved regions grow from their most
-//!    bent triangle over curved neighbours (by edge or vertex: a fold across the lattice's
-//!    diagonals touches at vertices) whose region-scale ruling direction — the shape operator
-//!    summed over the triangle and its edge neighbours — is within 45° of the seed's, so a
-//!    region is one family of rulings (pairwise chaining let one region turn across a whole
-//!    crumpled sheet). A flat triangle with no coplanar flat neighbour that touches a curved
-//!    one is a facet of that curved region and turns curved (before: a fold across the
-//!    lattice left a chain of one-triangle flat regions). Crease edges between the same two
-//!    flat regions form one crease region (one ruling per S_P edge, dihedral = θ_e). Rulings
-//!    are straight pattern lines traced along the region-scale r̄_t through the region
-//!    (seeded at the most bent uncovered triangle, one strip of triangles per ruling) with
-//!    2D/3D endpoints, length, tangent-plane normal and dihedral angle (the mean signed κ
-//!    along the ruling × the ruling spacing, i.e. the angle between the tangent planes of
-//!    neighbouring rulings, as the seeds' quads have).
-//! 8. **Generalized-cone fitting** (§3.7, [`cone`]): per curved region, rulings ordered across
-//!    it, least-squares apex on the Blaschke cylinder, segmentation into cones with
-//!    ε_blaschke = 0.5 % L_paper, gap cones between segments; a region containing a singular
-//!    vertex is one cone with that apex (T 977). Then **ruling realignment and boundary
-//!    resampling** ([`realign`], §3.7 steps 1–7): every ruling of a fitted cone is turned
-//!    about its anchor through the cone's pattern apex ā_proj (parallel to the axis for a
-//!    cylinder) and traced again on S_P, and rulings are inserted where neighbouring border
-//!    ends are more than 1/ρ_bound apart, so S_G's rulings are those of its cones.
+//!    ([`stretch`]); the most compressed one, c_t = 1 − λ_min > ε_c, starts a pass.
+//! 4. **Imaginary-ruling propagation** (§3.3, Appendix A): from it along ±v⊥ in the pattern
+//!    ([`walk`]) through flat triangles of its region to a border: the sheet boundary, a crease,
+//!    or a curved region, which is extended if its rulings are parallel to v⊥ (within
+//!    [`CONFLICT_RAD`]) and crossed to its first ruling bent beyond θ_sing if they conflict
+//!    (P 693–704). Borders {∂S, ∂S} make a cylinder (Fig. 7), {∂S, singular} a cone (Fig. 8),
+//!    {singular, singular} a degenerate strip (Fig. 9); the strip turns curved. At most
+//!    [`GeometryConfig::max_passes`] passes per frame (§3.4).
+//! 5. **Singular vertices** (§3.5) at crease and conflict borders: s̄ drawn with the seeds' law
+//!    about ē_sing ([`placement`]: seeded RNG, σ from the material); never removed, never moved
+//!    in 2D.
+//! 6. **Fibre damage** (§2.3, P eq. 1, T eq. 2.1–2.2): each of the N_i edges of a new interior
+//!    singular vertex gets rest angle ±Θ_rest/N_i (π/8, the sign of its fold) and damage D/N_i
+//!    (D = 10, k_b/(1 + d)), so a crumpled sheet keeps its d-cones while a smoothly bent one
+//!    springs back (P 489–491).
+//! 7. **Regions and rulings** (§5.1): curved regions grown from their most bent triangle,
+//!    crease regions (one ruling per crease edge, dihedral θ_e), and straight rulings traced
+//!    along r̄_t through each curved region with 2D/3D ends, length, tangent-plane normal and
+//!    dihedral angle (the mean signed κ along the ruling × the ruling spacing: the angle between
+//!    neighbouring rulings' tangent planes, as the seeds' quads have).
+//! 8. **Cones** (§3.7, [`cone`]): rulings ordered across a region, apex by least squares on the
+//!    Blaschke cylinder, segments split at ε_blaschke = 0.5 % L_paper; a region holding a
+//!    singular vertex is one cone about it (T 977). Then ruling realignment through each cone's
+//!    pattern apex and boundary resampling to 1/ρ_bound ([`realign`], §3.7 steps 1–7).
 //! 9. **Isometry** (§3.8, [`isometry`]): Phase I (edge directions, two Lagrange multipliers,
-//!    2×2 solves) and Phase II (positions, least squares, held vertices fixed), then no vertex
-//!    is let deeper into an obstacle than it was; a facet turned by more than 0.3 rad, or
-//!    turned over from its normal at the frame's start, or a correction that carries the
-//!    sheet through itself (it knows nothing of sheet–sheet contact), discards it, and frames
-//!    with a vertex faster than `IsometryConfig::max_speed_m_s` skip it (measured: in hostile stress runs the
-//!    position-only correction during violent motion let later physics steps turn facets
-//!    over); a still sheet skips it unless an edge is compressed by more than 1 % (isometry.rs
-//!    "When it runs"). Targets are compression-only by default
-//!    (stretched edges keep their length; measured: the symmetric targets raised c_mean above
-//!    the physics alone, see `docs/benchmarks.md`).
-//! 10. **Sudden shape changes** ("clac", T 1247, 1261): new singular vertices, new curved
-//!     regions, flattened triangles, flat-region splits, junction moves and the largest vertex
-//!     jump of the frame are listed in [`GeometryFrame::events`] (never smoothed).
-//! 11. **Coarsening** (the seeds' "coarse flat triangles" of S_P regeneration, P 351–354,
-//!     T 734–744; digest §2.2; plan step 2 of `docs/sp-regeneration-plan.md`): every
-//!     [`COARSEN_PERIOD_FRAMES`] frames, the last S_P vertex beyond the initial lattice that
-//!     is not singular — in practice a vertex a strip cut added (below) — is taken out again
-//!     when the sheet has opened out flat and still around it: its triangles are all flat,
-//!     its edges uncreased and bent by less than θ0, it is neither held nor next to a held
-//!     vertex, it moves with its neighbours (relative speed < [`COARSEN_MAX_REL_SPEED_M_S`]),
-//!     and a neighbour can take its place with well-shaped triangles. The sim collapses it
-//!     into that neighbour at the start of the next step ([`crate::sheet::coarsen`]: edge
-//!     collapse, Delaunay flips, state carried over, the vertices after it one index lower;
-//!     `sim/remesh.rs`), one per step and only when no other mesh change is pending, and
-//!     reports [`ShapeEvent::VertexCollapsed`]. The lattice's vertices and singular vertices
-//!     are never taken out, so the mesh never becomes coarser than the lattice, and with
-//!     strip cutting off (the default) nothing is ever taken out. A sleeping sheet does no
-//!     work, so a cut vertex left when it falls asleep goes once it is woken. Measured
-//!     (`sim-core/examples/coarsen_probe.rs`): a sheet held at both short edges, arched and let
-//!     go (the test script of `sim/remesh.rs`) gets 2 cuts with 4 new vertices in its first
-//!     0.1 s, and all 4 go between frames 301 and 370, as the arch flattens out (one per
-//!     [`COARSEN_PERIOD_FRAMES`]); in the slide S1 one of the 15 its 2 cuts added goes, the
-//!     others lie on the hinge the sheet stays bent along (|θ| ≈ 0.03 rad at rest).
+//!    2×2 solves), Phase II (positions, least squares, held vertices fixed).
+//! 10. **Events** ("clac", T 1247, 1261): new singular vertices and curved regions, flattened
+//!     triangles, flat-region splits, junction moves and the frame's largest vertex jump, in
+//!     [`GeometryFrame::events`], never smoothed.
 //!
-//! ## Simplifications against the seeds (said plainly)
+//! ## Implementation decisions
 //!
-//! - **S_P keeps its connectivity, except at singular points and flipped edges.** The seeds regenerate S_P from
-//!   S_G every frame (coarse flat triangles + Delaunay enrichment, quads with barycentre
-//!   vertices along rulings, §2.2). Here S_G's regions, rulings and cones are computed *on*
-//!   S_P (a region is a set of S_P triangles; a ruling is a traced pattern line), and S_P
-//!   changes only where S_G gains a vertex: a singular point gets an S_P vertex at its drawn
-//!   position (next bullet), inserted with state transfer ([`crate::sheet::refine`]), and
-//!   where a compressed flat edge is flipped (step 2). By default strip
-//!   cutting marks the strip's triangles curved instead of inserting rulings (the opt-in cut
-//!   is the next bullet but one); cone
-//!   **realignment and boundary resampling** (§3.7 steps 1–7) act on S_G's published rulings
-//!   only ([`realign`]: the physics does not see them). Reasons: the physics solver's sparse
-//!   factorization, the allocation-free step, the plugin's preallocated mesh and per-vertex
-//!   contacts all stay valid between singular points (an insertion rebuilds them, an event
-//!   like a reset); and our physics on the lattice already measures c_mean ≈ 0.01–0.03 %,
-//!   well inside the seeds' post-remeshing figures. Measured since: adopting a changed S_P
-//!   (`Sim::adopt_mesh`: physics with its symbolic factorization, layer, rig) costs 1.2 ms, more
-//!   than the whole frame budget, so a regeneration must be an event, not a per-frame step;
-//!   the plan for strip cutting and regeneration is `docs/sp-regeneration-plan.md`. The
-//!   seeds' per-frame regeneration is built as an opt-in mode
-//!   ([`GeometryConfig::regenerate_sp`], [`crate::sheet::regenerate`]: S_P rebuilt from S_G
-//!   after steps (d)–(f), then the isometry step on the new S_P) and measured against this
-//!   default over every seed scene (`sim-core/examples/regen_probe.rs`): 3.7–8.9× the frame
-//!   time, c_mean 0.06–0.67 % against 0.0004–0.028 %, and singular points where the default
-//!   has none (the twist C2: 25) — the chords new vertices are interpolated on compress the
-//!   sheet each frame, and the compression analysis reads that as buckling. Figures and
-//!   reasons in the plan.
-//! - **A singular point gets an S_P vertex at s̄.** s̄ is sampled with the seeds' law and σ
-//!   ([`SingularPoint::sampled2`]) about ē_sing. The eligible S_P vertex nearest to it among
-//!   the two faces of ē_sing (interior, not held, not yet singular) moves there in the
-//!   pattern if the triangles around it stay well shaped
-//!   ([`crate::sheet::physical::PhysMesh::move_pattern_vertex`]: rest data and masses follow,
-//!   the 3D point is lifted onto the current surface); otherwise the point waits
-//!   ([`PendingSingular`]) and after the frame the sim inserts a new S_P vertex at s̄
-//!   ([`crate::sheet::refine`], `sim/remesh.rs`): edge or triangle split, Delaunay flips of
-//!   unbent, undamaged edges, the new vertex placed on the surface where its edges have their
-//!   pattern lengths, state carried over), which then becomes the singular vertex. Where s̄
-//!   falls next to an existing vertex or the split would make thin triangles, the vertex goes
-//!   to the nearest accepted point (≤ half-way to its triangle's centre); where even that is
-//!   refused, the nearest vertex moves part of the way as before. Where s̄ lies just off a
-//!   sharply folded S_P edge, the vertex goes to the foot of s̄ on that edge, so that no new
-//!   triangle spans the fold (`sheet/refine.rs`, step 2): the law's offset across the edge is
-//!   dropped there (an approximation; the seeds' S_P, rebuilt around s̄, has no such edge).
-//!   **On by default** ([`GeometryConfig::insert_singular_vertices`]; off: the nearest vertex
-//!   moves part of the way everywhere and S_P's connectivity never changes). It was opt-in
-//!   while insertion stopped the full crumple early (C5 seed 1: 3 singular points, squeeze
-//!   0.43). The cause was not the mesh: parry3d's GJK on two triangles, in metres, reported
-//!   two layers 7 mm apart as crossing (its tolerances are absolute), the pass-through guard
-//!   undid the frame and the crumple limit held. With exact distances
-//!   ([`crate::triangle_distance`]) one real defect remained: the new vertex, relaxed onto its
-//!   pattern lengths, could cross a layer of a fold 1.4 mm away, and every later frame was
-//!   undone from that crossed start (C5 seed 2: 461 undone frames); the relaxation now
-//!   refuses such steps and an insertion that makes the sheet cross itself is refused
-//!   (`sim/remesh.rs`). Measured with `sim-core/examples/insert_probe.rs` (C5 seeds 1–8,
-//!   insertion on / off, crumple stop at 1 mm, edge flips on): 26/22, 26/33, 28/29, 35/22,
-//!   21/26, 30/23, 27/23, 39/30 singular points, 9–23 per run exactly at s̄ (off: 1–6), 17–30
-//!   vertices inserted; S4 23/22; 0–2 undone frames per run in either mode; c_mean
-//!   0.007–0.047 % either way and the same largest strain; time per frame 0.9–1.7× (the mesh
-//!   grows; the two modes squeeze to different depths). Before edge flips: 30/29, 38/31,
-//!   28/29, 28/25, 32/30, 30/23, 19/23, 39/30; S4 45/31. With the stop at 4 mm (until 2026-11-26):
-//!   26/24, 30/20, 22/17, 25/19, 23/20, 23/17, 17/13, 27/22. The twist, the double bend and the other scenes
-//!   place the same singular points either way.
-//!   When no vertex is eligible nothing is created (the seeds' rare failure, P 1631).
-//! - **Strip cutting is built but off by default** ([`GeometryConfig::cut_strips`]). The
-//!   seeds cut the flat region along a new strip's extremal rulings and remesh the strip as a
-//!   curved region whose rulings are edges (P 459–487, T 879–906). Our strip is the one line
-//!   of triangles the propagation walk crossed, so the cut is along that walk's line, the
-//!   imaginary ruling itself: every S_P edge it crossed, up to and including its border edge,
-//!   is split where the line crosses it, or the line snaps to the edge's end when the crossing
-//!   is within a third of the edge from it, then Delaunay flips about the new vertices
-//!   ([`crate::sheet::cut`]). The ruling becomes a chain of S_P edges, a straight hinge the
-//!   sheet can bend along; the shape and the energy do not change (each new vertex lies on an
-//!   old straight edge). One cut per frame (the frame's first new strip), done by the sim at
-//!   the start of the next step like a vertex insertion (`sim/remesh.rs`, announced by
-//!   `Sim::refinement_pending`, saved with the sheet). A line through a hand's pinch is not
-//!   cut, nor a strip of fewer than [`MIN_CUT_STRIP_TRIANGLES`]. Measured
-//!   (`sim-core/examples/insert_probe.rs` with `CUT=1`, C5 seeds 1–8): cutting through the
-//!   pinch and snapping only within a fifth of the edge made 4–10 cuts per run, short edges
-//!   next to the held corners and a largest strain of 0.19 and 0.27 in two seeds (health
-//!   limit 0.1). As built, cuts happen only at a gesture's onset (frames 9–21, the first
-//!   compression passes): 0–2 per run; 23–35 singular points (median 27; without cuts 26,
-//!   23, 28, 29, 31, 25, 27, 35, median 27.5), largest strain ≤ 0.074 (without cuts one
-//!   frame of seed 4 reaches 0.18, about an inserted vertex), c_mean 0.010–0.043 % (measured
-//!   2026-11-27 after the contact coupling of `physics/sparse.rs` moved to the split factor).
-//!   The other scenes
-//!   keep their targets: the twist has no singular point and its largest strain falls from
-//!   0.045 to 0.006 (c_mean 0.015 → 0.007 %); the double bend C4 makes 2 in each of seeds 2–6
-//!   and its own (1–5 without cuts). Why it stays opt-in: every cut only adds triangles (S1
-//!   130 → 158) and frame time while the sheet stays bent along them (coarsening, step 11,
-//!   takes a cut's vertices out only where the sheet has opened out flat again). Robustness
-//!   no longer keeps it off: `sim-stress --frames 10000 --seed S --sessions 1 --cut-strips`
-//!   passes for S = 1–24 (2026-11-27, with coarsening; largest strain 0.31–0.94; 13–45 cuts
-//!   per session, 0–12 vertices taken out again), as the default does.
-//! - **Edge flips act on S_P** (step 2 above, digest test 2): the seeds flip edges of the
-//!   coarse S_G triangulation of a flat region so that a fold across its other diagonal can
-//!   be seen (their S_P, resampled from S_G, bends underneath). Here S_G's flat regions are
-//!   S_P triangles, so the flip changes the physical mesh: it gives the sheet a hinge across
-//!   the compression. A lattice flip makes a 30°–30°–120° pair with a √3-times longer edge,
-//!   so flips are guarded (above) and rare: one or none per crumple run, none in the other
-//!   seed scenes. Once an S_P edge folds beyond θ0 the region splits along it as the seeds'
-//!   does after their flip. `GeometryConfig::flip_compressed_edges = false` turns flips off.
-//! - **Curvature analysis on the fine mesh** replaces the seeds' per-region ruling bookkeeping:
-//!   region classification uses the discrete shape operator with the seeds' thresholds.
-//!
-//! ## Digest §9 discrepancies, resolved
-//!
-//! | # | resolution here |
-//! |---|---|
-//! | 1 σ | 0.1 cm for printer and banknote, 0.05 cm for tracing ([`crate::material`]); `GeometryConfig::sigma_m` overrides |
-//! | 2 ρ | ρ_bound = 1.2/cm bounds the ruling spacing from below; S_P density is [`crate::sheet::MeshConfig`] (≈ 130–190 triangles) |
-//! | 3 order | Fig. 16 order (analysis → junctions/classification → cones → isometry); classification runs first since it also decides which triangles are analysed |
-//! | 4 t_iso | per-frame budget = Table V: Phase I is capped at `IsometryConfig::phase1_max_iters` (40, stops early), not run to convergence |
-//! | 5 N_s | the target is ≥ 15 for the full crumple: 23–35 per seed over seeds 1–8 (median 27.5; without vertex insertion 22–29), the crumple cap stopping the squeeze where the sheet would pass through itself, at a chaotic point (`tests/geometry.rs`) |
-//! | 6 ε_blaschke | RMS distance √(e/N) compared with 0.5 % L_paper |
-//! | 7 λ | c_t = 1 − λ_min |
-//! | 8 fibre damage | interior singular vertices only, sign of the fold at creation, D = 10 applied |
-//! | 9 tangent control | handled by [`crate::handles`] (2 neighbours at a corner, 3 on a border, 4 inside: the seeds give 2 on a border and up to 4 at a corner, digest §9 item 9; ours hold a corner by its two edges and keep a border grip from rotating about the edge line) |
-//! | 10 span removed around a new singularity | no rulings are stored per triangle, so nothing is removed: the new apex's fan is what the region partition and cone fit see next frame |
-//! | 11 W_stress | standard StVK ([`crate::physics::membrane`]) |
-//! | 12 a_max | ridges are rulings with dihedral > [`RIDGE_RAD`] = 0.5 rad |
-//! | 13 Algorithm 3 | closed-interval segmentation ([`cone::segment`]) |
+//! - S_P is the lattice, changed only where S_G gains a vertex or an edge is flipped; regions,
+//!   rulings and cones are computed on S_P triangles, and realignment moves S_G's published
+//!   rulings only: a new mesh costs more than a frame ("S_P changes at S_G's events, not every
+//!   frame"; the seeds' per-frame regeneration, built and measured, lost: "Per-frame S_P
+//!   regeneration (removed)").
+//! - A singular point gets an S_P vertex at s̄: the nearest eligible vertex moves there
+//!   ([`crate::sheet::physical::PhysMesh::move_pattern_vertex`]) or the sim inserts one after
+//!   the frame ([`PendingSingular`], [`crate::sheet::refine`]); with no eligible vertex nothing
+//!   is made (the seeds' rare failure, P 1631). The seeds never move a singular vertex in 2D
+//!   ("A singular point gets an S_P vertex at s̄").
+//! - Insertions go to a less strained place next to s̄ (its foot on a folded edge, or a nudged
+//!   point) when s̄ would start strained beyond 5 %: such a start could not relax within its
+//!   frame ("Insertion next to s̄").
+//! - Flips change S_P itself, S_G's flat regions being S_P triangles, and only where the quad
+//!   bends across its other diagonal: a quad merely squeezed in its plane, as the whole sheet is
+//!   at a crumple's onset, keeps its triangles ("Compressed-edge flips, and their guards").
+//! - An edge sharper than its triangle's two others by [`CREASE_DOMINANCE`] is left out of that
+//!   facet's shape operator: a sharp fold between two flat parts is two flat regions and a crease.
+//! - A curved triangle compressed along its own ruling (|κ_small/κ_big| < [`ANISO_MAX`], within
+//!   [`CONFLICT_RAD`]) by more than `curved_eps_factor`·ε_c (40) starts a pass in place: on a
+//!   fixed S_P that is the situation that buckles into a d-cone (P 685–692).
+//! - θ_sing is θ0 × (S_P edge / ruling spacing 1/ρ_bound), since one of our dihedrals spans that
+//!   many of the seeds' rulings; a region conflicts only when bent beyond θ_sing with a defined
+//!   ruling direction (a weakly bent or twisted one simply grows).
+//! - A vertex whose ring normals spread by φ in two directions, φ²/6 > 15·ε_c, becomes singular
+//!   ([`SingularCase::NonDevelopable`], `nondevelopable`): our converged physics folds instead
+//!   of compressing, so compression alone finds no d-cone in the full crumple ("Non-developable
+//!   vertices (the Gauss-image test)").
+//! - No pass starts at or beside a triangle touching a held vertex and no singular vertex goes on
+//!   or next to one: the hand's constraint strains them. A pass's start waits
+//!   [`REFRACTORY_FRAMES`] before it starts another.
+//! - A curved region is one family of rulings (region-scale directions within 45°), and a lone
+//!   flat facet touching it joins it ("Curved regions: one family of rulings").
+//! - The isometry restores compressed edges only, as the seeds treat compression alone (T 848); it
+//!   never moves a vertex deeper into an obstacle, is discarded if it turns a facet by more than
+//!   0.3 rad or over or crosses the sheet, and is skipped in fast frames and on a still sheet
+//!   without a 1 % compression ("Isometry: compression-only targets", "Isometry: when it runs").
+//! - Curvature analysis on the fine mesh replaces the seeds' per-region ruling bookkeeping; the
+//!   digest's §9 ambiguities are resolved as "Digest §9 discrepancies, resolved" lists.
+//! - `GeometryConfig::{enabled, insert_singular_vertices, flip_compressed_edges}` off: for the
+//!   bench report's comparison rows.
 //!
 //! ## Where each step lives
 //!
@@ -281,26 +107,22 @@
 //!
 //! | step | module |
 //! |---|---|
-//! | 1–2 shape, classification | `shape` (and `flip`, the compressed-edge flip) |
+//! | 1–2 shape, classification, flips | `shape`, `flip` |
 //! | 3–4 compression, propagation, strips | `compression` ([`stretch`], [`walk`]) |
 //! | 5 singular vertices, 6 fibre damage | `singular` ([`placement`]), `nondevelopable` |
 //! | 7 partition, rulings | `partition`, `rulings` |
 //! | 8 cones, realignment, resampling | `region_cones` ([`cone`]), [`realign`] |
 //! | 9 isometry | `isometry_step` ([`isometry`]) |
 //! | 10 published outputs and events | `frame` ([`GeometryFrame`], [`ShapeEvent`]) |
-//! | 11 coarsening | `coarsening` |
 //! | settings, saved state, mesh changes | `config`, `saved`, `remesh` |
 //!
 //! ## Allocation and determinism
 //!
-//! Every buffer is sized in [`GeometryLayer::new`] from S_P (whose connectivity changes only
-//! when a vertex is inserted or an edge flipped, and then [`GeometryLayer::remeshed`] builds
-//! a new layer);
-//! `update` only writes into them (sorts are in-place `sort_unstable_by` with index
-//! tie-breaks). The only randomness is the layer's own `Pcg32`, seeded from the sheet's seed
-//! and saved with the sheet.
+//! Every buffer is sized in [`GeometryLayer::new`] from S_P (a vertex insertion or an edge flip
+//! builds a new layer, [`GeometryLayer::remeshed`]); `update` only writes into them (in-place
+//! `sort_unstable_by` with index tie-breaks). The only randomness is the layer's own `Pcg32`,
+//! seeded from the sheet's seed and saved with the sheet.
 
-mod coarsening;
 mod compression;
 pub mod cone;
 mod config;
@@ -328,7 +150,6 @@ use crate::material::PaperMaterial;
 use crate::math::{V2, V3, sym2_eigen};
 use crate::physics::bending::dihedral;
 use crate::self_proximity::SelfProximity;
-use crate::sheet::cut::EdgeCrossing;
 use crate::sheet::geometric::{GVertex, GeomStructure, VKind};
 use crate::sheet::physical::PhysMesh;
 use crate::sheet::topology::NONE;
@@ -381,21 +202,6 @@ pub const JUMP_EVENT_M: f64 = 5e-4;
 pub const MAX_EVENTS: usize = 64;
 /// Longest propagation walk, in triangles.
 const MAX_WALK: usize = 256;
-/// A strip of fewer triangles is not cut (`GeometryConfig::cut_strips`): its borders are a
-/// triangle or two apart, so its cut would split an edge or two, a vertex more and no
-/// straight hinge (the double bend C4 and the crumples make many one- and two-triangle
-/// strips once their sheet is folded).
-pub const MIN_CUT_STRIP_TRIANGLES: usize = 4;
-/// Most edge crossings of a strip's cut line (both walks).
-const MAX_CUT_CROSSINGS: usize = 2 * MAX_WALK + 2;
-
-/// The layer looks for a vertex to take out of a flat region ([`GeometryConfig::coarsen_flat_regions`])
-/// once every this many frames (20: 0.1 s at 200 frames/s): a cut's few vertices go within a
-/// second of the sheet opening out, and a collapse the sim refuses is not retried every frame.
-pub const COARSEN_PERIOD_FRAMES: u64 = 20;
-/// A vertex is taken out only while it moves with its neighbours: no relative speed above
-/// this, m/s (its own momentum goes with it, [`crate::sheet::coarsen`]).
-pub const COARSEN_MAX_REL_SPEED_M_S: f64 = 0.01;
 
 /// Where a propagation direction ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -476,16 +282,6 @@ pub struct GeometryLayer {
     pending: Option<PendingSingular>,
     /// An edge waiting to be flipped (at most one per frame).
     pending_flip: Option<PendingFlip>,
-    /// The crossings of the last propagation's strip, in line order (workspace).
-    cut_line: Vec<EdgeCrossing>,
-    /// A strip waiting to be cut along `pending_cut` (at most one per frame): frame found.
-    pending_cut_frame: Option<u64>,
-    /// Its crossings, in line order.
-    pending_cut: Vec<EdgeCrossing>,
-    /// Vertices below this index are the initial lattice's (never taken out).
-    coarsen_from: usize,
-    /// A vertex waiting to be taken out of a flat region: (vertex, frame found).
-    pending_coarsen: Option<(u32, u64)>,
     /// This frame's event list was started before the layer ran ([`Self::start_events_early`]).
     keep_events: bool,
     /// The isometry step's crossing test found S_P's final positions of this frame crossing
@@ -606,11 +402,6 @@ impl GeometryLayer {
             frames_processed: 0,
             pending: None,
             pending_flip: None,
-            cut_line: Vec::with_capacity(MAX_CUT_CROSSINGS),
-            pending_cut_frame: None,
-            pending_cut: Vec::with_capacity(MAX_CUT_CROSSINGS),
-            coarsen_from: nv,
-            pending_coarsen: None,
             keep_events: false,
         };
         let mut count = vec![0u32; nv + 1];
@@ -744,9 +535,7 @@ impl GeometryLayer {
         }
         let flats_before = self.out.num_flat_regions;
         let made = self.treat_compression(sp, sg, fixed, frame);
-        if self.cfg.gauss_eps_factor.is_finite() {
-            self.treat_nondevelopable(sp, sg, fixed, frame, made);
-        }
+        self.treat_nondevelopable(sp, sg, fixed, frame, made);
         self.partition(sp, Promote::Yes);
         if flats_before > 0 && self.out.num_flat_regions > flats_before {
             let after = self.out.num_flat_regions;
@@ -758,16 +547,8 @@ impl GeometryLayer {
         self.trace_rulings(sp);
         self.fit_cones();
         self.realign_rulings(sp);
-        if self.cfg.regenerate_sp {
-            // Step (h) runs on the regenerated S_P ([`Self::isometry_after_regeneration`]).
-            self.checked_uncrossed = false;
-        } else {
-            self.isometry(sp, fixed, obstacles, driven, start_normals);
-        }
+        self.isometry(sp, fixed, obstacles, driven, start_normals);
         self.sync_positions(sp);
-        if self.cfg.coarsen_flat_regions && frame.is_multiple_of(COARSEN_PERIOD_FRAMES) {
-            self.find_coarsening(sp, frame);
-        }
     }
 
     /// Starts this frame's event list before the layer runs (the sim places a pending singular
@@ -905,7 +686,6 @@ mod tests {
                 &sp2,
                 &mut sg2,
                 &flip.tri_parent,
-                None,
                 &PaperMaterial::of(crate::control::Material::Printer),
                 1,
             )
@@ -993,149 +773,6 @@ mod tests {
                 .iter()
                 .any(|e| matches!(e, ShapeEvent::StripCurved { cylinder: true, .. }))
         );
-    }
-
-    /// Strip cutting (`cut_strips`): the cylinder strip of the compressed flat sheet is cut
-    /// along its imaginary ruling, so that the ruling becomes a chain of S_P edges from border
-    /// to border; the strip's triangles stay curved on the cut mesh. Off, nothing is pending.
-    #[test]
-    fn a_new_cylinder_strip_is_cut_along_its_ruling_when_cutting_is_on() {
-        let fixed = vec![false; sheet().0.num_vertices()];
-        let obstacles = Obstacles::new(&RoomConfig::default());
-        let squeezed = || {
-            let (mut sp, sg) = sheet();
-            for i in 0..sp.num_vertices() {
-                sp.pos[i].x *= 0.99;
-            }
-            (sp, sg)
-        };
-        let (mut sp, mut sg) = squeezed();
-        let mut off = layer(&sp);
-        off.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
-        assert!(off.pending_cut().is_none());
-
-        let (mut sp, mut sg) = squeezed();
-        let mut g = layer(&sp);
-        g.cfg.cut_strips = true;
-        g.update(&mut sp, &mut sg, &fixed, &obstacles, 1, true, &[]);
-        let line = g.pending_cut().expect("the strip is to be cut").to_vec();
-        // From border to border, in order along the ruling (v⊥ = ±y).
-        let point = |c: &EdgeCrossing| {
-            let [a, b] = c.edge.map(|v| sp.pattern[v as usize]);
-            a + (b - a) * c.u
-        };
-        let ys: Vec<f64> = line.iter().map(|c| point(c).y).collect();
-        let xs: Vec<f64> = line.iter().map(|c| point(c).x).collect();
-        assert!(ys.windows(2).all(|w| w[1] > w[0]) || ys.windows(2).all(|w| w[1] < w[0]));
-        assert!(
-            xs.iter().all(|x| (x - xs[0]).abs() < 1e-9),
-            "a straight ruling ∥ y"
-        );
-        for end in [&line[0], &line[line.len() - 1]] {
-            let e = sp.topo.find_edge(end.edge[0], end.edge[1]).unwrap();
-            assert!(sp.topo.edges[e as usize].is_boundary());
-        }
-        // The sim's part: cut, carry the layer over.
-        let strip_tris: Vec<u32> = (0..sp.num_triangles() as u32)
-            .filter(|&t| g.curved[t as usize])
-            .collect();
-        assert!(strip_tris.len() >= 8);
-        let (taken, frame) = g.take_pending_cut().unwrap();
-        assert_eq!((taken.as_slice(), frame), (line.as_slice(), 1));
-        assert!(g.pending_cut().is_none());
-        let cut = crate::sheet::cut::cut_along(&sp, &taken).unwrap();
-        let m = &cut.mesh;
-        let (first, last) = (cut.chain[0], *cut.chain.last().unwrap());
-        assert!(m.topo.vertex_on_boundary[first as usize]);
-        assert!(m.topo.vertex_on_boundary[last as usize]);
-        assert!(cut.chain.len() >= 8);
-        for w in cut.chain.windows(2) {
-            assert!(m.topo.find_edge(w[0], w[1]).is_some());
-        }
-        let mut sg2 = GeomStructure::initial(m);
-        let mut g2 = g
-            .remeshed(
-                m,
-                &mut sg2,
-                &cut.tri_parent,
-                None,
-                &PaperMaterial::of(crate::control::Material::Printer),
-                1,
-            )
-            .unwrap();
-        g2.strip_cut(cut.chain.len() as u32, cut.added as u32);
-        assert!(g2.frame().events.iter().any(|e| matches!(
-            e,
-            ShapeEvent::StripCut { added_vertices, .. } if *added_vertices as usize == cut.added
-        )));
-        for (t, &p) in cut.tri_parent.iter().enumerate() {
-            assert_eq!(g2.curved[t], g.curved[p as usize]);
-        }
-    }
-
-    #[test]
-    fn a_pending_cut_survives_save_and_restore_and_a_corrupt_one_is_refused() {
-        let (sp, mut sg) = sheet();
-        let mut g = layer(&sp);
-        let e = sp.topo.edges[20].v;
-        g.pending_cut.extend([
-            EdgeCrossing { edge: e, u: 0.4 },
-            EdgeCrossing {
-                edge: sp.topo.edges[21].v,
-                u: 0.5,
-            },
-        ]);
-        g.pending_cut_frame = Some(9);
-        let saved = g.save();
-        let mut r = layer(&sp);
-        r.restore(&sp, &mut sg, Some(&saved)).unwrap();
-        assert_eq!(r.pending_cut(), g.pending_cut());
-        assert_eq!(r.save(), saved);
-        for bad in [
-            vec![([e[0], e[0]], 0.4)],
-            vec![([e[0], 100_000], 0.4)],
-            vec![(e, f64::NAN)],
-            vec![(e, 1.5)],
-            vec![(e, 0.5); 2000],
-        ] {
-            let mut s2 = saved.clone();
-            s2.pending_cut = Some((bad, 9));
-            assert!(layer(&sp).restore(&sp, &mut sg, Some(&s2)).is_err());
-        }
-    }
-
-    #[test]
-    fn a_pending_coarsening_survives_save_and_restore_and_a_corrupt_one_is_refused() {
-        let (sp, mut sg) = sheet();
-        let nv = sp.num_vertices() as u32;
-        let mut g = layer(&sp);
-        // Pretend the last four vertices came after the lattice.
-        g.coarsen_from = nv as usize - 4;
-        g.pending_coarsen = Some((nv - 2, 40));
-        let saved = g.save();
-        let mut r = layer(&sp);
-        r.restore(&sp, &mut sg, Some(&saved)).unwrap();
-        assert_eq!(r.pending_coarsen(), Some(nv - 2));
-        assert_eq!(r.save(), saved);
-        // A lattice vertex, a vertex out of range, a lattice larger than the mesh.
-        for (from, pending) in [
-            (Some(nv - 4), Some((nv - 5, 40))),
-            (Some(nv - 4), Some((nv, 40))),
-            (Some(nv + 1), None),
-        ] {
-            let mut s2 = saved.clone();
-            s2.coarsen_from = from;
-            s2.pending_coarsen = pending;
-            assert!(layer(&sp).restore(&sp, &mut sg, Some(&s2)).is_err());
-        }
-        // A save from before coarsening: every vertex present stays.
-        let mut old = saved.clone();
-        old.coarsen_from = None;
-        old.pending_coarsen = None;
-        let mut o = layer(&sp);
-        o.restore(&sp, &mut sg, Some(&old)).unwrap();
-        assert_eq!(o.coarsen_from, sp.num_vertices());
-        assert_eq!(o.pending_coarsen(), None);
     }
 
     /// Digest §8 test 3, case {∂S, singular on a crease} (Fig. 6c): a sheet folded along a

@@ -1,9 +1,11 @@
 //! # The gesture rig: gesture values → hand targets
 //!
 //! The seeds drive the sheet by handles, hard constraints with a controlled tangent plane
-//! (T 714/730, P 388–394, 450; digest-tearing §4.1), moved by a user. A plugin is driven by
-//! notes and automation instead, so the rig maps *absolute* gesture values (digest-tearing
-//! §4.3 design rule (a)) to handle target poses; notes grab and release groups of handles.
+//! (thesis `000_cb4d91e46ec5927f.txt` T 714/730, TOG 2015 `001_44bc28f7c5e9f81f.txt`
+//! P 388–394, 450; digest-tearing §4.1), moved by a user. A plugin is driven by notes and
+//! automation instead, so the rig maps *absolute* gesture values (digest-tearing §4.3 design
+//! rule (a)) to handle target poses; notes grab and release groups of handles. A name in quotes
+//! below is the section of `docs/decisions.md` with the figures behind a choice.
 //!
 //! ## Slots (grab/release)
 //!
@@ -13,110 +15,74 @@
 //! | left / right | 2 on the left (−x) / right (+x) edge at 25 % and 75 % of the length |
 //! | corners | the 4 corners |
 //!
-//! Each handle holds its vertex and 2–4 tangent-plane neighbours ([`crate::handles`]). The two
-//! handles of an edge slot are one **hand** (one rigid grip, like thumb and finger of one
-//! pinch); each corner is a hand of its own. A grab takes hold where the sheet is; the hand
-//! then travels to its target at the grip speed `0.05 + 1.95·grip` m/s (grip = note velocity
-//! 0–1), never more than [`TRAVEL_CLAMP_FRAC`] × L_paper per frame. Release frees the vertices
-//! with their velocity.
+//! Each handle holds its vertex and 2–4 tangent-plane neighbours ([`crate::handles`]); the two
+//! handles of an edge slot are one **hand** (one rigid grip, like thumb and finger of a pinch),
+//! each corner a hand of its own. A grab takes hold where the sheet is; the hand then travels to
+//! its target at `0.05 + 1.95·grip` m/s (grip = note velocity 0–1), at most
+//! [`TRAVEL_CLAMP_FRAC`] × L_paper per frame. Release frees the vertices with their velocity. A
+//! vertex two hands contest stays with the earlier grab, and no edge joins two hands' grips.
 //!
 //! ## Target pose of a hand
 //!
-//! Home pose = the pattern position of the hand's reference point (the centroid of its handle
-//! vertices) at the table-top height, flat frame. Then:
-//! - **slide** s ∈ \[0, 1\]: towards the sheet centre along the inward normal of the handle's own
-//!   edge by s·span/4 (span = the sheet's extent across that edge: the length for back/front,
-//!   the width for left/right; corners move diagonally by (W/4, L/4)·s). Back + front held →
-//!   the edges approach (the sheet curves up, S1/C1); front only → the front edge pushes the
-//!   sheet along the table (S6) towards the wall at +y (S3).
-//!   The held patches also tilt (inner side up) by 0.7 × the angle at which a free arc
-//!   would leave its ends for that approach ([`arc_half_angle`]), so the sheet bows upwards:
-//!   a perfectly flat sheet pressed on the table is a symmetric equilibrium that the implicit
-//!   solver would otherwise keep, compressing the sheet in-plane instead of bending it.
-//! - **lift** ℓ ∈ \[0, 1\]: the front group (the front-edge hand and the two front corners) rises
-//!   by ℓ·L/2. The left and right hands hold the front *and* the back part of their edge
-//!   rigidly, so they pivot about their back finger until the front finger has risen by ℓ·L/2
-//!   (angle asin ℓ) — raising one finger of a rigid pinch by L/2 and not the other would have to
-//!   stretch the paper between them (impl. choice, isometric reading of "the front handles of
-//!   the left/right edges rise").
-//! - **twist** τ ∈ [−1,1]: the front group's positions and frames rotate by τ·π about the
-//!   sheet's long axis (the line x = 0 parallel to y at the group's lifted height); positive τ
-//!   raises the right (+x) side (Möbius-like twist C2, flap S5, one-corner lift C6). The left
-//!   and right hands do not twist (they span both sides of the front/back divide).
+//! From the home pose (the centroid of the hand's handle vertices at table height, flat frame):
+//! - **slide** s ∈ \[0, 1\]: inwards along the normal of the hand's edge by s·span/4 (span: the
+//!   sheet's extent across that edge; corners by (W/4, L/4)·s). Back + front: the edges approach
+//!   (S1, C1); front alone pushes the sheet along the table (S6) to the wall at +y (S3). The
+//!   patches tilt up by 0.7 × the angle a free arc leaves its ends at ([`arc_half_angle`]): a
+//!   flat sheet pressed on the table is an equilibrium the implicit solver would keep.
+//! - **lift** ℓ ∈ \[0, 1\]: the front group (front hand, front corners) rises by ℓ·L/2; the left
+//!   and right hands pivot about their back finger (angle asin ℓ), since raising one finger of a
+//!   rigid pinch and not the other would stretch the paper between them.
+//! - **twist** τ ∈ \[−1, 1\]: the front group turns by τ·π about the sheet's long axis, +τ
+//!   raising the right (+x) side (C2, S5, C6); the left and right hands, spanning both halves,
+//!   do not twist.
 //! - **shake** d, f: every active handle moves vertically by `d·0.05·L·sin(φ)`, φ advancing by
-//!   2π·f·dt each frame (a continuous phase, so rate changes do not jump).
-//! - **crumple** c ∈ \[0, 1\]: while c > 0, 8 boundary points (4 corners + 4 edge midpoints)
-//!   become handles ("two hands squeezing") whose targets move towards the centre,
-//!   `centre + (1 − c·k)(p − centre)` with k = [`CRUMPLE_CAP`], plus a seeded jitter, a lift of
-//!   ≈ c·0.1·L and a tilt of the frame (inner side up, c·[`CRUMPLE_TILT_RAD`]). They are
-//!   *point* handles (no tangent-plane neighbours, impl. choice): a squeezing hand presses
-//!   points, and rigid tangent patches of neighbouring hands would collide as the ring of hands
-//!   shrinks, crushing the paper between them. They take precedence over slot handles on the
-//!   same vertices; c back to 0 releases them.
+//!   2π·f·dt a frame (a continuous phase, so rate changes do not jump).
+//! - **crumple** c ∈ \[0, 1\]: 8 boundary points (corners, edge midpoints) become point handles
+//!   moving to `centre + (1 − c·k)(p − centre)`, k = [`CRUMPLE_CAP`], with a seeded jitter, a
+//!   lift of ≈ c·0.1·L and a tilt of c·[`CRUMPLE_TILT_RAD`]; they take precedence over slot
+//!   handles and go when c is back at 0. Point handles, because rigid patches of neighbouring
+//!   hands would collide as the ring shrinks ("Hands, grip and obstacles").
 //!
-//! When two hands contest a vertex (a neighbour of both), the earlier grab keeps it; a held
-//! neighbour that would touch (share an edge with) a vertex of another hand is not held, so two
-//! rigid grips are never joined by a single edge.
+//! Gesture values follow slew-rate limits derived from the travel clamp (a jump becomes a sweep:
+//! a twist jump turns the hands along arcs instead of through each other), then each pose is
+//! clamped again. Tear and pull are stored but have no effect yet
+//! ([`GestureParam::moves_the_sheet`]).
 //!
-//! **Grip force.** Hard constraints can contradict each other (hands pulling the sheet apart,
-//! a squeeze against held edges): the sheet would then be crushed or torn by the solver. A real
-//! pinch holds only so much: each finger (handle) holds at most `1 + 4·grip` N
-//! ([`grip_force_n`]); when the elastic pull of the sheet on the held vertices of a hand
-//! exceeds the sum of its fingers' grips, the hand gives way along the pull (by
-//! [`HAND_COMPLIANCE_M_N`] per newton of excess, at most the travel clamp) and stays there
-//! while its target stays put ([`crate::handles::HandState::advance`]): it settles where the
-//! pull is within its grip. Gravity and ordinary bending pull with millinewtons, so
-//! this only acts on contradictory gestures, and it bounds the strain they can cause. A hand
-//! never gives way into the table, wall or floor: the part of a slip that would take its held
-//! patch deeper into an obstacle is taken back (the obstacle holds the hand, as it holds the
-//! paper). Without that, a crumpled ball held against a raised table was pulled down by its
-//! layers and a held corner stayed 4 mm inside the table top, the hand slipping in as fast as
-//! the push out of obstacles took it back (`tests/scenarios.rs`).
+//! ## Grip and obstacles
 //!
-//! **Crumple cap.** Sheet–sheet contact ([`crate::physics::sheet_contact`]) holds layers that
-//! come within 1.5 mm apart, but a fold snapping through a coarse mesh moves ~1 cm in a
-//! frame, faster than a contact skin can catch, so the squeeze must stop before the sheet
-//! passes through itself; the seeds capped their crumpling for the same reason (no
-//! self-collision, point handles only: T 1245, T 2014, T 2076) and digest-tearing §4.3 caps
-//! the squeeze at 0.6. Here k = 0.6 bounds the squeeze (the ring of hands at 40 % of the
-//! sheet's size at c = 1), but a fixed bound does not keep the sheet from passing through
-//! itself — measured (`tests/self_contact.rs`): the point hands buckle the sheet into folds
-//! that crossed in 19 of 20 runs, up to ≈ 1 cm deep. So the cap also follows the sheet
-//! (impl. choice): every frame of a squeeze the sim measures the sheet's closest approach to
-//! itself ([`crate::self_proximity`]) and [`GestureRig::limit_squeeze`] slows the squeeze
-//! linearly from [`SQUEEZE_SLOW_M`] down to [`SQUEEZE_SLOWEST`] of its speed at
-//! [`SQUEEZE_STOP_M`], where it stops (the limit stays until the command falls below it), and
-//! backs off by one frame's travel per frame below [`SQUEEZE_BACK_OFF_M`]. The crumple value
-//! slews no faster than the hands can follow, so stopping the value stops the hands. Snap-
-//! through buckles still move a fold ~1 cm per frame, faster than any stop distance; the sim
-//! undoes such a frame (`Sim::undo_pass_through`: sheet and hands back to the frame's start,
-//! the sheet stopped, the squeeze backing off, the contact stiffened where it crossed so the
-//! replay does not cross again). The stop is at 1 mm, inside the contact skin: the squeeze
-//! goes on until layers touch and the contact holds them. Measured over C5 seeds 1–8
-//! (`insert_probe`): with the stop at 4 mm (back-off 2 mm) the squeeze reached 0.59–0.82;
-//! at 1 mm (back-off 0.5 mm) it reaches 0.70–0.98 with 0–2 undone frames per run (0.65–0.98
-//! before hands stopped slipping into the table, 0.70–0.91 before compressed flat edges were
-//! flipped, geometry.rs step 2); at
-//! 0.5 mm it reached 0.70–1.00, but one run squashed a small triangle by 19 % in one
-//! direction (the scenario health limit is 10 %), and before the contact was stiffened
-//! where it crossed, seed 5 looped through 436 undone frames. With both, none of the test's 20 runs
-//! crosses; the squeeze stops at 0.34–1.00 of its range, and where other hands keep pushing
-//! the sheet into itself it stands still (measured in those runs: undone frames come alone
-//! or in pairs, at most 5 per run; with the 4 mm stop and before the contact was stiffened
-//! where it crossed, up to 1.6 s in a row; after [`crate::sim::MAX_UNDO_STREAK`] undone
-//! frames, 0.1 s, one goes through as simulated, and a frame whose start crosses already is
-//! not undone: `Sim`'s module doc, "The pass-through guard").
+//! - **Grip force.** A finger holds at most `1 + 4·grip` N ([`grip_force_n`]); pulled harder, a
+//!   hand gives way along the pull by [`HAND_COMPLIANCE_M_N`] per newton of excess and stays
+//!   there while its target stays ([`crate::handles::HandState::advance`]). Contradictory hard
+//!   constraints would otherwise crush or tear the sheet; gravity and bending pull with
+//!   millinewtons, so only such gestures are affected ("Hands, grip and obstacles").
+//! - **Obstacles.** Targets are moved out of the table, wall and floor; a hand never gives way
+//!   into one, a hand holding paper inside one comes out at its travel speed, and a moving one
+//!   carries every hand by the largest push any needs, as they hold one sheet (`obstacles`).
 //!
-//! **Obstacles.** Targets are moved out of the table, wall and floor (the whole held patch);
-//! a hand that holds paper inside an obstacle comes out at its travel speed, never by a jump,
-//! and a moving obstacle (a table being raised) carries the hands along at its own speed —
-//! all of them together, by the push the deepest held patch needs, as they hold one sheet.
+//! ## Crumple cap
 //!
-//! **Rate limits.** Gesture values are followed through slew-rate limits derived from the
-//! travel clamp (a value jump becomes a continuous sweep, so e.g. a twist jump rotates the
-//! hands along arcs instead of moving them through each other), then each hand's pose is
-//! clamped again. Tear and pull gestures are stored but have no effect yet (tearing is a later
-//! issue; [`GestureParam::moves_the_sheet`]).
+//! Sheet–sheet contact ([`crate::physics::sheet_contact`]) holds layers within 1.5 mm, but a
+//! fold snapping through a coarse mesh moves ~1 cm a frame, faster than a contact skin can
+//! catch, so the squeeze must stop before the sheet passes through itself. The seeds, with no
+//! self-collision, capped their crumpling (T 1245, T 2014, T 2076; digest-tearing §4.3: 0.6).
+//! Here k = 0.6 bounds the squeeze, and each frame of a squeeze the sim also measures the sheet's
+//! closest approach to itself ([`crate::self_proximity`]) for [`GestureRig::limit_squeeze`]:
+//!
+//! ```text
+//! closest approach                   the squeeze
+//! > SQUEEZE_SLOW_M (2 cm)            at the hands' speed
+//! SQUEEZE_STOP_M … SQUEEZE_SLOW_M    slowed linearly, down to SQUEEZE_SLOWEST of it
+//! ≤ SQUEEZE_STOP_M (1 mm)            stopped, until the command falls below the limit
+//! < SQUEEZE_BACK_OFF_M (0.5 mm)      backing off by one frame's travel per frame
+//! ```
+//!
+//! The crumple value slews no faster than the hands follow, so stopping the value stops them. A
+//! frame that still passes the sheet through itself is undone (`Sim`'s module doc, "The
+//! pass-through guard"). A fixed bound alone let the point hands buckle the sheet into folds
+//! that crossed; the stop lies inside the contact skin, so the squeeze goes on until layers
+//! touch and the contact holds them ("The crumple cap follows the sheet; the squeeze stops at
+//! 1 mm").
 //!
 //! Moving targets out of obstacles and carrying the hands along with a moving one is
 //! `obstacles`; the hands' part of a saved sheet is `saved` ([`SavedHandDef`]).

@@ -362,10 +362,9 @@ impl HandState {
     /// A hand that gave way (the sheet pulled harder than its grip) stays where the sheet
     /// pushed it for as long as its target stays put: it settles where the pull is within its
     /// grip, as a hand holding a crumpled ball does. It moves on when the target moves (a
-    /// gesture changes). Before (measured on the full crumple, C5): a hand that had given way
-    /// crept back towards the same target, was pushed out again every 4–8 frames, and the
-    /// held ball never came to rest (vertex speeds ~5 cm/s for the whole hold, 7–10 solver
-    /// iterations per frame).
+    /// gesture changes). A hand that crept back towards the same target was pushed out again
+    /// every few frames, and a held ball never came to rest (docs/decisions.md, "Hands, grip
+    /// and obstacles").
     pub fn advance(&mut self, target: &Pose, dt_s: f64, clamp_m: f64, max_angle_rad: f64) -> bool {
         self.prev_pose = self.pose;
         if self.slipping {

@@ -26,23 +26,21 @@
 //! integration. Dissipation potentials (damping, drag, friction) are centred on the state at
 //! the start of the substep.
 //!
-//! ## Solvers
+//! ## Solver
 //!
-//! - [`newton`]: Newton's method on E with a sparse Cholesky solve (faer) of the PSD-projected
-//!   Hessian and a backtracking line search;
-//! - [`xpbd`]: extended position-based dynamics (Macklin et al. 2016, 2019: small steps, one
-//!   iteration) on the same mesh, material and obstacles, for comparison.
+//! [`newton`]: Newton's method on E with a sparse Cholesky solve (faer) of the PSD-projected
+//! Hessian and a backtracking line search. XPBD was built and measured against it and lost
+//! (21× the length error at the same cost; docs/decisions.md, "Newton, not XPBD").
 //!
-//! The benchmark report (`cargo xtask bench-report`, `docs/benchmarks.md`) measures both on the
+//! The benchmark report (`cargo xtask bench-report`, `docs/benchmarks.md`) measures it on the
 //! scenario library (run time per frame against the length error c_mean / n_comp);
-//! [`SolverConfig::default`] records the decision.
+//! [`SolverConfig::default`] records the chosen parameters.
 
 pub mod bending;
 pub mod membrane;
 pub mod newton;
 pub mod sheet_contact;
 pub mod sparse;
-pub mod xpbd;
 
 use crate::collision::{CONTACT_SKIN_M, LaggedContact, Obstacles, penalty_stiffness};
 use crate::material::PaperMaterial;
@@ -50,26 +48,13 @@ use crate::math::{M2, V3};
 use crate::sheet::physical::PhysMesh;
 use membrane::MembraneParams;
 
-/// Which integrator runs the physics step.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum SolverKind {
-    /// Backward Euler, Newton + sparse Cholesky (the seeds' "implicit integration").
-    #[default]
-    Newton,
-    /// XPBD with substeps.
-    Xpbd,
-}
-
 /// Numerical parameters of the physics step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverConfig {
-    /// Integrator.
-    pub kind: SolverKind,
     /// Substeps per frame (time step = frame / substeps).
     pub substeps: u32,
-    /// Newton: maximal iterations per substep that factorize the system (with
-    /// `reuse_factor`, as many more may solve with a reused factorization). XPBD: constraint
-    /// iterations per substep.
+    /// Maximal Newton iterations per substep that factorize the system (with `reuse_factor`,
+    /// as many more may solve with a reused factorization).
     pub iterations: u32,
     /// Newton: stop when the largest vertex update is below this, metres.
     pub tolerance_m: f64,
@@ -102,41 +87,26 @@ pub struct SolverConfig {
 }
 
 impl Default for SolverConfig {
-    /// The solver and parameters chosen by measurement (`cargo xtask bench-report`,
-    /// `docs/benchmarks.md`, sim-report section, physics only, mean over the 12 seed scenarios):
+    /// The parameters chosen by measurement on the bench report (`cargo xtask bench-report`);
+    /// the figures are in `docs/decisions.md` under the names in quotes:
     ///
-    /// - **Newton, not XPBD**: at about the same time per frame, Newton 1×10 reaches c_mean
-    ///   0.0089 % / n_comp 0.05 % in 0.56 ms, XPBD 20×1 0.19 % / 3.6 % in 0.61 ms (21× the
-    ///   error); XPBD needs 80 substeps (2.1 ms) to come within 4× of Newton's error, and it
-    ///   turned triangles over in 4 of its 5 time steps at the default density (Newton never
-    ///   did).
-    /// - **One substep**: 2×10 and 4×10 give the same error (0.0097 %, 0.0093 %) at 1.4× and 2×
-    ///   the median time and 2–3.5× the p99 (the error comes from the model, not the time step).
-    /// - **Stretching stiffness × 0.03** (15 kN/m for printer paper) is the knee of the stiffness
-    ///   sweep: × 0.1 halves the error (0.0045 %) for 30 % more time, × 0.01 and × 0.003 save
-    ///   2–12 % of the time for 3–7× the error.
+    /// - **One substep**: more give the same error at more time; the error comes from the
+    ///   model, not the time step ("Newton's parameters: one substep, up to 10 iterations,
+    ///   k_s × 0.03").
+    /// - **Stretching stiffness × 0.03** (15 kN/m for printer paper): the knee of the stiffness
+    ///   sweep (same section).
+    /// - **Up to 10 iterations**, stopping at the tolerance (the seeds: "convergence after 10
+    ///   to 100 iterations"): an unconverged step's velocity carries energy the sheet never
+    ///   had, and a held sheet would never come to rest (same section).
+    /// - **Reused factorizations: on** ([`newton`], "Reused factorizations"): the crumples'
+    ///   median frame falls by a fifth, with no more strained runs ("Reused factorizations").
+    /// - **Contact coupling: 32 pairs**: with diagonal blocks alone Newton creeps to its cap
+    ///   where layers lie on each other ("Contact coupling: 32 pairs").
     ///
-    /// **Iterations: up to 10**, stopping at the tolerance (the seeds: "convergence after 10
-    /// to 100 iterations", 4–11 measured on average). A cap of 3 was cheaper per frame but
-    /// left the step unconverged in hard frames, and the velocity `(x − x_n)/h` of an
-    /// unconverged step carries energy the sheet never had: a sheet squeezed and held by the
-    /// crumple hands kept moving at 3–5 m/s forever (crackling continuously) instead of
-    /// coming to rest, and the full crumple over-stretched (s4: max strain 0.36). With the
-    /// cap at 10 the held sheet settles (vertex speeds < 1 cm/s) and s4's max strain is 0.04;
-    /// easy frames still stop after 1–2 iterations.
-    ///
-    /// **Reused factorizations: on** ([`newton`], "Reused factorizations"). Over the crumples C5
-    /// and S4 played with seeds 1–300, the median frame falls to 0.76–0.82× (docs/benchmarks.md,
-    /// 2026-12-01), with no more runs beyond the strain health limit than without.
-    ///
-    /// **Contact coupling: 32 pairs** (`docs/benchmarks.md`, report of 2026-11-27 09:19). With
-    /// the sheet–sheet pairs' diagonal Hessian blocks alone, S4 ended 557 of 1 198 frames at the
-    /// iteration cap; with up to 32 pairs' whole Hessians, 212. Over C5 seeds 1–4 and 6–8, 32 /
-    /// 16 / 0 pairs: mean median 1.54 / 1.57 / 1.60 ms, worst p99 4.13 / 4.03 / 4.19 ms, frames
-    /// at the cap 915 / 945 / 1 563.
+    /// `stop_on_error_estimate`, `reuse_factor`, `sheet_contact` and `contact_coupling_pairs`
+    /// off (or 0): for the bench report's comparison rows.
     fn default() -> Self {
         Self {
-            kind: SolverKind::Newton,
             substeps: 1,
             iterations: 10,
             tolerance_m: 1e-6,
@@ -166,7 +136,6 @@ impl SolverConfig {
             if v.is_finite() { v.clamp(lo, hi) } else { dflt }
         };
         Self {
-            kind: self.kind,
             substeps: self.substeps.clamp(1, Self::MAX_SUBSTEPS),
             iterations: self.iterations.clamp(1, Self::MAX_ITERATIONS),
             tolerance_m: pos(self.tolerance_m, d.tolerance_m, 1e-12, 1e-2),
@@ -369,12 +338,11 @@ impl SubstepFrame {
     }
 }
 
-/// The physics engine of one mesh: both solvers' workspaces.
+/// The physics engine of one mesh: the solver's workspaces.
 #[derive(Debug)]
 pub struct Physics {
     frame: SubstepFrame,
     newton: newton::NewtonSolver,
-    xpbd: xpbd::XpbdSolver,
     /// Substeps integrated since creation (the work counter: it does not move while the
     /// sheet sleeps).
     pub substeps_done: u64,
@@ -386,7 +354,6 @@ impl Physics {
         Self {
             frame: SubstepFrame::new(mesh),
             newton: newton::NewtonSolver::new(mesh),
-            xpbd: xpbd::XpbdSolver::new(mesh),
             substeps_done: 0,
         }
     }
@@ -462,16 +429,9 @@ impl Physics {
         } else {
             self.frame.sheet.clear();
         }
-        let report = match cfg.kind {
-            SolverKind::Newton => {
-                self.newton
-                    .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s)
-            }
-            SolverKind::Xpbd => {
-                self.xpbd
-                    .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s)
-            }
-        };
+        let report = self
+            .newton
+            .substep(mesh, &self.frame, kin, obstacles, params, cfg, h_s);
         // Last line of defence: a non-finite state is replaced by the start of the substep,
         // at rest (never observed in the stress tests; counted if it happens).
         let bad = mesh

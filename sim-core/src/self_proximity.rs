@@ -4,16 +4,18 @@
 //! through itself (T 1245, T 2014, T 2076; digest-tearing §4.3). Ours
 //! ([`crate::physics::sheet_contact`]) holds layers apart that come within 1.5 mm, but fast
 //! folds can still tunnel through a coarse mesh within a frame, so the squeeze stays capped
-//! where the sheet comes close to itself. A fixed cap on the squeeze does not do that here (measured in
-//! `tests/self_contact.rs`: point hands buckle the sheet into folds that cross within 50–75 ms),
-//! so the gesture rig caps the squeeze where the sheet *actually* comes close to itself: this
-//! module measures that closest approach each frame while the crumple hands squeeze.
+//! where the sheet comes close to itself. A fixed cap on the squeeze does not do that here
+//! (point hands buckle the sheet into folds that cross; docs/decisions.md, "The crumple cap
+//! follows the sheet; the squeeze stops at 1 mm"), so the gesture rig caps the squeeze where
+//! the sheet *actually* comes close to itself: this module measures that closest approach each
+//! frame while the crumple hands squeeze.
 //!
 //! **Measure.** The smallest 3D distance between two triangles of S_P that share no vertex
 //! (triangles that share one touch by construction); 0 if two of them intersect. A folded
 //! layer can only reach another part of the sheet through such a pair, so the measure falls
 //! towards 0 before any pass-through — provided it is sampled faster than layers approach
-//! (the rig stops at several millimetres, far more than a frame's travel of a fold).
+//! (the rig slows the squeeze from 2 cm on; a fold snapping through faster than that is left to
+//! the sim's pass-through guard).
 //!
 //! **Refined meshes.** On the lattice S_P starts as, two triangles that share no vertex lie
 //! at least ≈ 0.87 of the lattice spacing apart in the pattern (a triangle's height). A vertex
@@ -31,35 +33,29 @@
 //! pairs whose boxes are farther apart than the query reach are not measured, nor are pairs
 //! whose box gap (a lower bound of their distance) is no smaller than the closest distance
 //! found so far — the last query's closest pair is measured first, so that bound is usually
-//! tight from the start (the result is the same minimum in any order; on C5 and S4, with
-//! bit-identical runs, the self-contact phase took 0.69–0.80× its former time, measured with
-//! `sim-core/examples/scenario_probe.rs`). The closest distance so far also narrows the
-//! sweep's window (pairs whose boxes are farther apart could only be pruned) and bounds the
-//! narrow phase: of a pair's 15 feature pairs, those whose boxes lie farther apart than it are
-//! not measured, nor, since 2026-11-28, those whose point lies farther from the other's plane
-//! or whose edges' lines lie farther apart (same answers; `cargo bench -p sim-core --bench step
-//! -- contact/c5_frame_400/closest_approach` 55.6 → 50.3 µs), nor pairs lying apart along the
-//! line through their centroids (side by side, where neither lies wholly on one side of the
-//! other's plane; same answers, 37.7 → 34.0 µs, 2026-11-28)
-//! ([`crate::triangle_distance::triangle_distance_below_m`]); the margin keeps
-//! every answer the same (all 12 seed scenes bit-identical; the self-contact phase's mean per
-//! awake frame 0.236 → 0.164 ms in C5 and 0.196 → 0.149 ms in S4, `scenario_probe`,
-//! 2026-11-27). The pattern-gap filter answers from the two
+//! tight from the start (the result is the same minimum in any order). The closest distance so
+//! far also narrows the sweep's window (pairs whose boxes are farther apart could only be
+//! pruned) and bounds the narrow phase: of a pair's 15 feature pairs, those whose boxes lie
+//! farther apart than it are not measured, nor those whose point lies farther from the other's
+//! plane or whose edges' lines lie farther apart, nor pairs lying apart along the line through
+//! their centroids (side by side, where neither lies wholly on one side of the other's plane)
+//! ([`crate::triangle_distance::triangle_distance_below_m`]); the margin keeps every answer the
+//! same (all 12 seed scenes bit-identical). The pattern-gap filter answers from the two
 //! triangles' pattern boxes when those are clearly farther apart than the gap, and measures
 //! only the pairs left; its answer for a pair is kept until the pattern or the triangles change
 //! (at mesh events, or where a hand moves a pattern vertex), so each pair's pattern gap is
-//! measured once per mesh, not once per frame. The sweep reads the boxes in sweep order from one array and rejects a
-//! pair apart by more than the reach along y or z before it computes the gap's norm; the
-//! crossing test computes each vertex's side of the other triangle's plane once and stops
-//! when a triangle lies wholly on one side ([`crate::triangle_distance::triangles_intersect`]).
-//! Both give the same answers (the 12 seed scenes' final states are bit-identical, measured
-//! with `scenario_probe`; the crumples' self-contact phase 0.81–0.86× with the guard's
-//! repeated sweep skipped, `sim.rs`). Narrow phase: the exact triangle distance of
-//! [`crate::triangle_distance`] (15 closest-feature pairs, or 0 if an edge crosses; parry3d's
-//! GJK on two triangles in metres reported phantom crossings of layers 7 mm apart, which
-//! stopped squeezes and undid frames for nothing). On a sheet that is nowhere folded over, only near neighbours
-//! survive the broad phase. All buffers are kept between calls: the steady state does not
-//! allocate.
+//! measured once per mesh, not once per frame. The sweep reads the boxes in sweep order from
+//! one array and rejects a pair apart by more than the reach along y or z before it computes
+//! the gap's norm; the crossing test computes each vertex's side of the other triangle's plane
+//! once and stops when a triangle lies wholly on one side
+//! ([`crate::triangle_distance::triangles_intersect`]). Each of these prunings gives the same
+//! answers and saves time (docs/benchmarks.md, "Self-contact query: the last closest pair
+//! first", "Contact queries" and "Query figures moved from the module docs").
+//! Narrow phase: the exact triangle distance of [`crate::triangle_distance`] (15
+//! closest-feature pairs, or 0 if an edge crosses), not parry3d's GJK, whose absolute
+//! tolerances reported layers 7 mm apart as crossing. On a sheet that is nowhere folded over,
+//! only near neighbours survive the broad phase. All buffers are kept between calls: the
+//! steady state does not allocate.
 
 use std::cell::Cell;
 

@@ -16,18 +16,14 @@
 //! - [`geometric`]: S_G (the data model; its operations are [`crate::geometry`]);
 //! - [`refine`]: vertex insertion into S_P with state transfer (a singular vertex at its exact
 //!   drawn position).
-//! - [`cut`]: cutting S_P along a straight pattern line with state transfer (a strip's ruling
-//!   becomes a chain of S_P edges).
-//! - [`coarsen`]: removing a vertex of a flat region by an edge collapse with state transfer
-//!   (a cut taken out again once the sheet is flat there).
+//! - [`cut`]: cutting S_P along a pattern polyline with state transfer (the path becomes a
+//!   chain of S_P edges): a building block for tearing, not used by the frame loop.
 
-pub mod coarsen;
 pub mod cut;
 pub mod geometric;
 pub mod pattern;
 pub mod physical;
 pub mod refine;
-pub mod regenerate;
 pub mod topology;
 
 use crate::control::SheetSize;

@@ -12,175 +12,88 @@
 //!
 //! ## One frame (digest-crumpling §3.0, steps (a)–(c) of Fig. 16 / Fig. 2.3)
 //!
+//! The seeds' frame loop: TOG 2015 Fig. 16 (`001_44bc28f7c5e9f81f.txt`), thesis Fig. 2.3
+//! (`000_cb4d91e46ec5927f.txt`).
+//!
 //! 1. (a) while the crumple hands squeeze, the sheet's closest approach to itself
 //!    ([`crate::self_proximity`]) limits the squeeze (gesture_rig.rs "Crumple cap") and the
-//!    frame's start is kept; the gesture rig turns the gesture values into handle target poses
-//!    and moves the handles ([`crate::gesture_rig`], [`crate::handles`]); obstacle planes that
-//!    were moved by a room command ease towards their new place ([`crate::collision`]);
-//! 2. (b) `substeps` physics substeps ([`crate::physics`]) with the held vertices as hard
-//!    constraints interpolated across the frame, obstacles (with their depth limit) and
-//!    friction;
+//!    frame's start is kept; the gesture rig moves the handles towards their target poses
+//!    ([`crate::gesture_rig`], [`crate::handles`]); moved obstacle planes ease towards their
+//!    new place ([`crate::collision`]);
+//! 2. (b) `substeps` physics substeps ([`crate::physics`]): held vertices as hard constraints
+//!    interpolated across the frame, obstacles with their depth limit, friction;
 //! 3. (c) S_G reads its vertex positions from S_P ([`crate::sheet::geometric`]);
-//! 4. (d)–(h) the geometry layer ([`crate::geometry`]): compression analysis, imaginary
-//!    rulings, singular vertices with fibre damage, flat/curved partition with junction
-//!    hysteresis, rulings, cone fitting and the isometry optimizer; its per-frame outputs are
-//!    [`Sim::geometry`];
-//! 5. while squeezing, a frame that passed the sheet through itself is undone
-//!    (`undo_pass_through`); when the isometry step has just swept the frame's final
-//!    positions for crossings and found none, that sweep is not repeated
-//!    ([`crate::geometry::GeometryLayer::checked_uncrossed`]);
+//! 4. (d)–(h) the geometry layer ([`crate::geometry`]), its outputs in [`Sim::geometry`];
+//! 5. while squeezing, a frame that passed the sheet through itself is undone (below);
 //! 6. contacts (flag, obstacle, slip speed, normal force) and metrics are updated;
 //! 7. the sound analysis ([`crate::sound_analysis`]) turns the frame's curvature flips, new
 //!    singular vertices and sliding contacts into crumple and friction events with their
 //!    resonators, written to the frame's [`SoundFrame`], and the statistics are written.
 //!
+//! ## When a substep or a frame goes wrong
+//!
+//! The hands are hard constraints: a substep starts with each held vertex at its target and the
+//! free vertices where the predictor carries them, and the solve brings them after. The squeeze
+//! can also push the sheet through itself. Four remedies act only where the plain frame fails
+//! (`substep`, `undo`):
+//!
+//! ```text
+//! substep solved (physics/newton.rs)
+//!  ├─ a held vertex's jump turned a triangle over, or the solve stalled or pinned with a
+//!  │  triangle strained beyond HOLD_BACK_STRAIN and more than at its start
+//!  │    → solve again from the substep's start, at rest, hands back at the frame's start
+//!  └─ still turned over, or capped / stalled / pinned with that strain
+//!       → solve as 2, 4, 8 shorter substeps (SPLIT_FACTORS), hands interpolated, momentum
+//!         kept; where none counts, once more with a slipped hand's offset faded out
+//! frame ended crossed while squeezing
+//!  → undo: sheet and hands back to the frame's start, at rest, contact stiffened there
+//!  ├─ unless the start already crossed, or MAX_UNDO_STREAK frames were undone in a row
+//!  └─ a restored start strained beyond UNDO_RELAX_STRAIN: its substeps solved again with
+//!     the hands held, then with UNDO_RELAX_FINE_FACTOR × as many, kept if better
+//! ```
+//!
+//! No seed scene stalls, splits, undoes or relaxes a frame, so none plays differently for these
+//! (`scenario_probe` hashes); regression fixtures are in `sim-core/tests/fixtures/`
+//! (`tests/stalled_substeps.rs`, `tests/undone_frames.rs`, `tests/crossed_start.rs`). Each
+//! section below names in quotes the section of `docs/decisions.md` with its figures.
+//!
 //! ## A substep solved again
 //!
-//! The hands are hard constraints: a substep starts with each held vertex at its target and
-//! the free vertices where the predictor (their velocity) carries them, and the solve brings
-//! them after. Two things can go wrong, and in both the substep is solved again from its
-//! start, at rest, with every hand back at its pose at the start of the frame: the frame's
-//! momentum is dropped, as the pass-through guard drops it (`undo_pass_through`), and the
-//! hands wait a frame (with several substeps, the held vertices go back to where the frame
-//! began).
-//! - **A hand's jump turns a triangle over.** The line search never turns a triangle over,
-//!   but a held vertex that jumps to its target can (a hand grabbing next to a small triangle
-//!   beside an inserted vertex), and the solve cannot turn it back. The second solve stands
-//!   if it turns nothing over and strains the sheet no more than the first (or less than
-//!   [`HOLD_BACK_STRAIN`]). Found by the long hostile stress run (`sim-stress`, seed 14, frame
-//!   48 657: a left-hand grab turned a triangle over); from the state saved before it, with
-//!   the grab applied, the frame now turns nothing over.
-//! - **The solve stalls into strain.** When no step is acceptable, even damped, or the solve
-//!   had to pin vertices whose triangle every step would turn over (physics/newton.rs
-//!   "Pinning"), the vertices it could not move stay where the predictor put them, and a
-//!   triangle between them and a hand, or the vertices that did move, stretches. A stalled or
-//!   pinned substep that leaves some triangle strained by more than [`HOLD_BACK_STRAIN`], and
-//!   more than at its start, is solved again; the second solve stands only if it turns
-//!   nothing over and leaves at most [`HOLD_BACK_GAIN`] (90 %) of the first one's strain.
-//!   Without that margin a sheet that strained the same either way kept its hands held back
-//!   frame after frame: in `sim-stress --seed 2` a pinned triangle held the gesture for 200
-//!   frames (second solves 0.3 % better), and the frame where it went on strained the sheet
-//!   to 1.09. Found by the long stress run (seed 4, frame 33 202: a sheet moving at 3.1 m/s, a
-//!   vertex pinned where the predictor had carried it, next to a small triangle whose other
-//!   corner a hand held: strain 2.80; 2.23 without pinning). From the states saved just before
-//!   the failing frames (`examples/fixture_step.rs`), seed 4's frame ends at strain 0.047
-//!   (0.064 when only the momentum is dropped; 2.80 when only the hands go back: the
-//!   predictor, not the hands, strained it), seed 11's (frame 24 681) at 0.891 instead of
-//!   1.081.
-//!
-//! Otherwise the first solve stands, hands and all. A gesture whose every step would turn a
-//! triangle over is held back as long as it tries. No seed scene turns a triangle over or
-//! stalls, so none plays differently (`scenario_probe` hashes). The fixtures are in
-//! `sim-core/tests/fixtures/` (`tests/stalled_substeps.rs`). Counted in
-//! [`FrameStats::held_back_substeps`] (second solves that stood).
+//! The second solve, from rest with the hands back, stands if it turns nothing over and, after
+//! a stall, leaves at most [`HOLD_BACK_GAIN`] (90 %) of the first solve's strain: a hand's jump
+//! can turn a triangle the solve cannot turn back, and without the margin a sheet strained the
+//! same either way held its hands back frame after frame ("A substep solved again from rest").
+//! Counted in [`FrameStats::held_back_substeps`].
 //!
 //! ## A substep solved as shorter ones
 //!
-//! Adaptive time stepping, for what solving again from rest does not mend. A substep whose
-//! first solve stands after the section above — one that turned a triangle over, or ended
-//! short of its solution (at the iteration cap, physics/newton.rs "Stopping", stalled or
-//! pinned) leaving some triangle strained beyond [`HOLD_BACK_STRAIN`] and more than at its
-//! start — is solved again from its start as 2, 4, then 8 substeps of a half, quarter and
-//! eighth of its length ([`SPLIT_FACTORS`]), the hands' targets interpolated along the
-//! substep ([`crate::gesture_rig::GestureRig::fill_kinematics`]) and the momentum kept. A
-//! shorter step has a closer predictor and a better-conditioned system, so Newton reaches its
-//! solution within the cap where the long step could not (implicit Euler's error and
-//! nonlinearity both grow with the step), and a hand's jump split in parts drags its
-//! neighbours along instead of turning a small triangle over. A split counts if none of its
-//! substeps turns a triangle over or recovers and it leaves at most [`HOLD_BACK_GAIN`] of the
-//! strain of the best solve so far (after a turn-over: no more than the first, or
-//! [`HOLD_BACK_STRAIN`]); the ladder stops at the first that counts with no more than
-//! [`HOLD_BACK_STRAIN`], and the best that counted stands (else the first solve does).
-//! Where none counts and some held vertex starts the substep away from where its hand held it
-//! then (the hand slipped, `GestureRig::apply_slip`, or took a new grip since the last solve),
-//! the ladder is climbed once more with that offset faded out over the split's substeps
-//! instead of taken whole in the first: in the long run's session 20 (frame 31 629) a slipped
-//! hand's two held vertices jumped 5.9 mm at the substep's start and turned a 0.7 cm²
-//! triangle beside them by 90.4°, in every split. Fading is the second ladder, not the first:
-//! as the first it left other frames more strained (seed 19's, below: 0.715 instead of 0.164;
-//! a slip moves the hand where the sheet pulls it, so taking it at once relieves the sheet).
-//! Counted in [`FrameStats::split_substeps`].
-//!
-//! **Orientation continuity at the split's resolution.** The line search keeps each substep
-//! from turning a triangle over from the substep's start; a split's substeps each do, but a
-//! region of the sheet snapping through can turn by more than 90° over the whole frame (seeds
-//! 14 and 20 of the long run named below: 95°–176° at 5–6 cm per frame, 10 m/s, each of 4–8
-//! substeps turning less). So the flipped-triangle reference
-//! ([`crate::metrics::MetricsTracker::previous_normals`]) advances with the split's substeps,
-//! and a "flipped" triangle means one turned over within one solver step, not within one
-//! frame; with one substep per frame and no split (every seed scene) the two are the same.
-//! A frame the pass-through guard undoes takes the frame's reference back.
-//!
-//! Found by the long hostile stress run of 2026-12-01 (reused factorizations): sessions 5, 8,
-//! 14, 19 and 20 of `sim-stress --frames 50000 --seed S --sessions 1` ended at strain 1.21,
-//! 1.14, 1.46, 1.01 and 1.79 from a capped substep, session 15 with a turned triangle that
-//! solving again from rest turned too. From the states saved just before
-//! (`tests/stalled_substeps.rs`) the split ends their frames at 0.203, 0.597, 0.438, 0.164
-//! and 0.239, and turns nothing over in seed 15's; 20 or 40 Newton iterations instead of 10
-//! left seed 5's at 1.201. With this and the depth limit's strain guard
-//! (`limit_penetration`) all 20 sessions pass (docs/benchmarks.md, "Mended, 2026-12-01").
-//! No seed scene ever strains beyond [`HOLD_BACK_STRAIN`], so none plays differently
-//! (`scenario_probe` hashes).
-//!
-//! ## An undone frame relaxed
-//!
-//! A frame the pass-through guard undoes goes back to where it started, at rest
-//! (`undo_pass_through`). That start is normally as relaxed as the frame before left it, but
-//! a mesh change made at the frame's start is not: a vertex inserted inside a tight fold
-//! (sim/remesh.rs, sheet/refine.rs) starts with its triangles strained, by up to 0.78 in the
-//! crumples played over seeds (`iter_hist s4_crumple@8`, its 174th frame), and the frame's
-//! own solve, which would have relaxed it, is the one undone. The undone frame then showed that strain
-//! (to the sound analysis and the display too), and the next frame released it at once. So
-//! when the restored start is strained beyond [`UNDO_RELAX_STRAIN`] (the scenario health
-//! limit, 0.1), the frame's substeps are solved again from it with every hand held where the
-//! frame started, as after a stalled substep ("A substep solved again"). The result stands if
-//! it turns no triangle over, does not pass the sheet through itself and lowers the largest
-//! strain; the sheet is left at rest either way. Where the fold springs through the layer
-//! beside it within the frame's substeps, the relaxation is tried once more with
-//! [`UNDO_RELAX_FINE_FACTOR`] (4) times as many, shorter substeps, whose contact searches
-//! follow the fold. Measured over C5 and S4 with seeds 1–24 each (`cargo run --release -p
-//! sim-core --example iter_hist -- s4_crumple@SEED`, 48 runs), 7 runs change and none gets
-//! worse: S4 seeds 2, 8, 13, 18 and 19 end with their largest strain at the undone frames
-//! below the limit (0.127 → 0.071, 0.782 → 0.065, 0.351 → 0.103 — the 0.103 is another frame,
-//! at the squeeze's onset —, 0.176 → 0.075, 0.265 → 0.081), and S4 seed 13 undoes 2 frames
-//! instead of 6. C5 seed 21 and S4 seed 22 undo 3 frames instead of 6 and 8, but their first
-//! undone frames still show 0.49 and 0.52: both relaxations pass the sheet through itself
-//! there, so the strained start stays (a known approximation); so does S4 seed 5's (0.157).
-//! Trying only the shorter substeps (without the frame's own first), S4 seed 19's relaxation
-//! crossed (0.265 again). No seed scene undoes such a frame, so none plays
-//! differently (`scenario_probe` hashes). Counted in [`FrameStats::relaxed_undone`].
-//!
-//! Those figures are with every insertion at s̄. Since an insertion that would start
-//! strained goes to a less strained place next to s̄ (sheet/refine.rs, step 2), the cause is
-//! mostly gone: over C5 and S4 with seeds 1–150, 5 runs relax an undone frame (to 0.019–0.102)
-//! and none needs the shorter substeps. With the Newton solver reusing its factorizations,
-//! whose courses are others (physics/newton.rs, "Reused factorizations"), 5 of the 600 runs
-//! with seeds 1–300 relax one, and C5 seed 181 and S4 seed 130 need the shorter substeps. The tests (`tests/undone_frames.rs`) cover both attempts, one case with the old
-//! insertions.
+//! A shorter substep has a closer predictor and a better-conditioned system, and a hand's jump
+//! split in parts drags its neighbours along. A split counts if none of its substeps turns a
+//! triangle over and it leaves at most [`HOLD_BACK_GAIN`] of the best strain so far; the ladder
+//! stops at the first within [`HOLD_BACK_STRAIN`]. Fading a slip's offset is the second ladder,
+//! not the first: a slip moves the hand where the sheet pulls it ("A substep solved as shorter
+//! ones"). Counted in [`FrameStats::split_substeps`]. "Flipped" then means turned over within
+//! one solver step: the reference ([`crate::metrics::MetricsTracker::previous_normals`])
+//! advances with the split's substeps, since a region snapping through can turn past 90° in a
+//! frame by steps of less ("Flipped triangles counted per solver step").
 //!
 //! ## The pass-through guard
 //!
-//! While the hands squeeze, a frame that passes the sheet through itself is undone
-//! (`undo_pass_through`, gesture_rig.rs "Crumple cap"). It is armed when the frame starts
-//! uncrossed: the closest approach of two layers, which the squeeze limit measures anyway,
-//! is above zero — or, where that query finds two layers touching, a crossing sweep says so.
-//! That query skips pairs of triangles close in the pattern (one patch of the sheet, which
-//! may not be told from layers of a fold), so a start whose crossing is between two such
-//! triangles armed the guard all the same; the frame ended crossed and undoing it returned
-//! to the crossed start, frame after frame until the script's hands changed course (S4 seed
-//! 8: 163 frames, 0.8 s of a frozen squeeze). Now the undo looks at the start it would return
-//! to, and where that crosses already the frame stands ([`FrameStats::kept_crossed_start`]).
-//! Where the start is clean but every replay crosses the same way (a pair of one patch,
-//! which the sheet–sheet contact does not hold apart either), at most [`MAX_UNDO_STREAK`]
-//! frames (0.1 s) are undone in a row before one goes through as simulated; it was 400
-//! frames (2 s), and S4 seed 41 froze for 142. Over C5 and S4 with seeds 1–150 (300 runs,
-//! `cargo run --release -p sim-core --example iter_hist -- s4_crumple@SEED`): 461 → 174
-//! undone frames, the longest streak 163 → 23 frames; three runs then play on with a
-//! crossing inside a fold (S4 seeds 8, 41 and 117: 162, 120 and 13 frames keep a crossed
-//! start), and S4 seed 117's frame that goes through strains the sheet by 0.131 (0.100 before).
-//! No seed scene undoes a frame, so none plays differently. (Those are the plain Newton
-//! solver's courses; with reused factorizations one run of the 600 with seeds 1–300 keeps a
-//! crossed start, S4 seed 181, for one frame: `tests/crossed_start.rs`.)
+//! Armed when the frame starts uncrossed: the closest approach above zero, or a crossing sweep
+//! where layers touch (skipped when the isometry step has just swept the final positions,
+//! [`crate::geometry::GeometryLayer::checked_uncrossed`]). A crossed start stands
+//! ([`FrameStats::kept_crossed_start`]) and at most [`MAX_UNDO_STREAK`] frames (0.1 s) are
+//! undone in a row, since a crossing the replay cannot avoid froze the squeeze ("The
+//! pass-through guard: crossed starts and the undo streak"). An undone frame takes the flipped
+//! triangles' reference back.
+//!
+//! ## An undone frame relaxed
+//!
+//! A start strained beyond [`UNDO_RELAX_STRAIN`] (the health limit, 0.1) is relaxed: a mesh
+//! change at the frame's start can start strained, and the frame that would relax it is the one
+//! undone. The result stands if it turns nothing over, does not cross and lowers the largest
+//! strain; the sheet is left at rest either way ("An undone frame relaxed"). Counted in
+//! [`FrameStats::relaxed_undone`].
 //!
 //! ## Sleeping
 //!
@@ -194,8 +107,7 @@
 //!
 //! This file holds the sim's state, its commands and the frame loop ([`Sim::step`]). Solving a
 //! substep and solving it again is `substep`, undoing a frame `undo`, changing the mesh
-//! (insertions, flips, cuts, collapses) `remesh`, saved sheets `saved`, the phase clock
-//! `phase_times`.
+//! (insertions, flips) `remesh`, saved sheets `saved`, the phase clock `phase_times`.
 //!
 //! ## Allocation
 //!
@@ -204,14 +116,12 @@
 //! capacity ([`Sim::mesh_capacity`]) do not allocate (tested with a counting allocator).
 
 mod phase_times;
-mod regen_counts;
 mod remesh;
 mod saved;
 mod substep;
 mod undo;
 
 pub use phase_times::PhaseTimes;
-pub use regen_counts::RegenCounts;
 pub use saved::{RestoreError, SAVED_SHEET_VERSION, SavedSheet};
 
 use phase_times::Stopwatch;
@@ -423,13 +333,6 @@ pub struct Sim {
     kept_crossed_start: bool,
     /// S_P edges flipped (sim/remesh.rs).
     flipped_edges: u64,
-    /// Strips cut into S_P ([`crate::geometry::GeometryConfig::cut_strips`]).
-    cut_strips: u64,
-    /// S_P vertices taken out of flat regions
-    /// ([`crate::geometry::GeometryConfig::coarsen_flat_regions`]).
-    collapsed_vertices: u64,
-    /// S_P regenerations adopted and refused (sim/remesh.rs).
-    regenerations: RegenCounts,
     analysis: SoundAnalysis,
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
@@ -532,9 +435,6 @@ impl Sim {
             inserted_vertices: 0,
             kept_crossed_start: false,
             flipped_edges: 0,
-            cut_strips: 0,
-            collapsed_vertices: 0,
-            regenerations: RegenCounts::default(),
             analysis,
             proximity: {
                 // Vertices inserted at singular points make pairs of triangles a fraction of an
@@ -673,14 +573,11 @@ impl Sim {
     }
 
     /// True if the next [`Self::step`] starts by inserting an S_P vertex for a singular point
-    /// drawn in the last frame, by flipping a compressed edge found then, by cutting a new
-    /// strip or by taking a vertex out of a flat region (sim/remesh.rs):
-    /// that step allocates (a new mesh), every other step does not. A host that steps the sheet on its audio thread permits it there.
+    /// drawn in the last frame or by flipping a compressed edge found then (sim/remesh.rs):
+    /// that step allocates (a new mesh), every other step does not. A host that steps the
+    /// sheet on its audio thread permits it there.
     pub fn refinement_pending(&self) -> bool {
-        self.geometry.pending_singular().is_some()
-            || self.geometry.pending_flip().is_some()
-            || self.geometry.pending_cut().is_some()
-            || self.geometry.pending_coarsen().is_some()
+        self.geometry.pending_singular().is_some() || self.geometry.pending_flip().is_some()
     }
 
     /// S_P vertices inserted at singular points' drawn positions into the current sheet (since
@@ -694,24 +591,6 @@ impl Sim {
     /// [`Self::inserted_vertices`] is).
     pub fn flipped_edges(&self) -> u64 {
         self.flipped_edges
-    }
-
-    /// Strips cut into the current sheet's S_P (counted as [`Self::inserted_vertices`] is).
-    pub fn cut_strips(&self) -> u64 {
-        self.cut_strips
-    }
-
-    /// S_P vertices taken out of flat regions of the current sheet (counted as
-    /// [`Self::inserted_vertices`] is).
-    pub fn collapsed_vertices(&self) -> u64 {
-        self.collapsed_vertices
-    }
-
-    /// Times S_P was regenerated from S_G, and why regenerations were refused, in the
-    /// current sheet ([`crate::geometry::GeometryConfig::regenerate_sp`]; counted as
-    /// [`Self::inserted_vertices`] is).
-    pub fn regenerations(&self) -> RegenCounts {
-        self.regenerations
     }
 
     /// Frames that ran the physics (not asleep) since creation.
@@ -826,20 +705,13 @@ impl Sim {
         self.frame = self.frame.saturating_add(1);
         out.sound.frame = self.frame;
         out.sound.time_s = self.time_s();
-        // The only step that allocates: a singular vertex drawn last frame gets its own S_P
-        // vertex ([`Self::refinement_pending`], sim/remesh.rs).
+        // The only steps that allocate: an edge flip or a singular vertex's own S_P vertex,
+        // found last frame and announced since ([`Self::refinement_pending`], sim/remesh.rs).
         if let Some(f) = self.geometry.take_pending_flip() {
             self.flip_pending_edge(&f);
         }
-        if let Some((line, _)) = self.geometry.take_pending_cut() {
-            self.cut_pending_strip(&line);
-        }
         if let Some(p) = self.geometry.take_pending_singular() {
             self.place_pending_singular(&p);
-        }
-        // Found only when nothing else was pending (the others name vertices by index).
-        if let Some(v) = self.geometry.take_pending_coarsen() {
-            self.collapse_pending_vertex(v);
         }
         if self.asleep {
             self.geometry.idle_frame(self.frame);
@@ -944,13 +816,11 @@ impl Sim {
         }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
         let mut relaxed_undone = false;
-        let mut undone = false;
         self.kept_crossed_start = false;
         if guard {
             // The isometry step may just have swept these very positions for crossings.
             let checked = self.cfg.geometry.enabled && self.geometry.checked_uncrossed();
             if !checked && self.undo_pass_through(frame_scale) {
-                undone = true;
                 relaxed_undone = self.relax_undone_start(dt);
                 self.sheet.sg.pull_positions(&self.sheet.sp);
                 self.geometry.sync_positions(&self.sheet.sp);
@@ -960,35 +830,11 @@ impl Sim {
                 // dropped with the undone frame.
                 self.geometry.take_pending_singular();
                 self.geometry.take_pending_flip();
-                self.geometry.take_pending_cut();
-                self.geometry.take_pending_coarsen();
             } else {
                 self.rig.state.undo_streak = 0;
             }
         }
         self.phase_ns.self_contact_ns += self.stopwatch.lap_ns();
-        // The seeds' step (g), opt-in: S_P rebuilt from this frame's S_G (sim/remesh.rs).
-        if self.cfg.geometry.enabled
-            && self.cfg.geometry.regenerate_sp
-            && !undone
-            && !self.refinement_pending()
-        {
-            self.regenerate_sp();
-            self.phase_ns.regeneration_ns = self.stopwatch.lap_ns();
-            self.phase_ns.geometry_ns += self.phase_ns.regeneration_ns;
-        }
-        // Step (h) on the regenerated S_P (the layer left it out, geometry.rs).
-        if self.cfg.geometry.enabled && self.cfg.geometry.regenerate_sp && !undone {
-            self.geometry.isometry_after_regeneration(
-                &mut self.sheet.sp,
-                &self.fixed,
-                &self.obstacles,
-                driven,
-                self.metrics.previous_normals(),
-            );
-            self.sheet.sg.pull_positions(&self.sheet.sp);
-            self.phase_ns.geometry_ns += self.stopwatch.lap_ns();
-        }
         self.update_contacts();
         self.last_metrics = self.metrics.compute(&self.sheet.sp);
         self.analysis.analyze(
@@ -1244,7 +1090,6 @@ impl Sim {
     }
 }
 
-/// The largest (vertices, triangles) over all sheet sizes at the configured density, × 2.
 /// The largest sheet's width and length, metres (sizes the sound analysis grid).
 fn largest_sheet_m() -> (f64, f64) {
     SheetSize::ALL.iter().fold((0.0, 0.0), |acc, s| {
@@ -1253,6 +1098,7 @@ fn largest_sheet_m() -> (f64, f64) {
     })
 }
 
+/// The largest (vertices, triangles) over all sheet sizes at the configured density, × 2.
 fn mesh_capacity_for(cfg: &SimConfig) -> (usize, usize) {
     let mut best = (0, 0);
     for size in SheetSize::ALL {
@@ -1261,9 +1107,7 @@ fn mesh_capacity_for(cfg: &SimConfig) -> (usize, usize) {
         best.0 = best.0.max(p.points.len());
         best.1 = best.1.max(p.triangles.len());
     }
-    // A regenerated S_P cuts every ruling into lattice-sized pieces (sheet/regenerate.rs).
-    let k = if cfg.geometry.regenerate_sp { 4 } else { 2 };
-    (k * best.0, k * best.1)
+    (2 * best.0, 2 * best.1)
 }
 
 #[cfg(test)]

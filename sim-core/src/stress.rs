@@ -110,11 +110,6 @@ pub struct StressReport {
     pub max_c_mean_pct: f64,
     /// Most S_P vertices on one sheet.
     pub max_vertices: usize,
-    /// Strips cut into S_P over all sheets of the session (`GeometryConfig::cut_strips`).
-    pub cut_strips: u64,
-    /// S_P vertices taken out of flat regions again over all sheets of the session
-    /// (`GeometryConfig::coarsen_flat_regions`).
-    pub collapsed_vertices: u64,
     /// First violation, if any (frame, description).
     pub failure: Option<(u64, String)>,
 }
@@ -207,7 +202,6 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
     let mut sheet_frame = 0u64;
     let mut phase_left = 0u64;
     let mut phase = 0u32;
-    let mut last_counts = (0u64, 0u64);
     // The restored copy of the sheet, stepped alongside for `restore_check_frames` frames, and
     // how many of them are left.
     let mut twin: Option<(Sim, u64)> = None;
@@ -315,12 +309,6 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
         }
         rep.max_singular = rep.max_singular.max(n);
         rep.max_vertices = rep.max_vertices.max(sim.sheet().sp.num_vertices());
-        // The counters start again with each new sheet (a reset or size change).
-        let counts = (sim.cut_strips(), sim.collapsed_vertices());
-        let grown = |now: u64, before: u64| if now >= before { now - before } else { now };
-        rep.cut_strips += grown(counts.0, last_counts.0);
-        rep.collapsed_vertices += grown(counts.1, last_counts.1);
-        last_counts = counts;
         rep.max_c_mean_pct = rep.max_c_mean_pct.max(m.c_mean_pct);
         if m.c_mean_pct.is_nan() || m.c_mean_pct >= MAX_C_MEAN_PCT {
             rep.failure = Some((f, format!("c_mean {} %", m.c_mean_pct)));
@@ -371,8 +359,8 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
 ///
 /// [`Sim::restore`] takes the room from the configuration it is given, and the stream's `Room`
 /// commands move the table, the wall and the hands' home height; a sheet restored into the
-/// default room does not continue the session's frame (checked: seed 20 after frame 31 628
-/// continues bit-identically in the session's room and not in the default one).
+/// default room does not continue the session's frame bit-identically; restored into the
+/// session's room, it does.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StressFixture {
     /// The session's room when the sheet was saved.
@@ -457,10 +445,7 @@ fn saved_differences(a: &SavedSheet, b: &SavedSheet) -> Vec<&'static str> {
             rng,
             iso_undriven_compression,
             pending_singular,
-            pending_flip,
-            pending_cut,
-            coarsen_from,
-            pending_coarsen
+            pending_flip
         );
     }
     d

@@ -12,8 +12,8 @@
 //! Breakage detected: without the rule no frame reports `kept_crossed_start` (checked: the
 //! guard then undoes the frame instead); a streak of undone frames fails too. If the crumple's
 //! course changes, no frame starts crossed and the case must be found again (`cargo run
-//! --release -p sim-core --example iter_hist -- s4_crumple@SEED` prints the undone and
-//! kept-crossed frames of each seed).
+//! --release -p papier-lab -- iter-hist s4_crumple@SEED` prints the undone and kept-crossed
+//! frames of each seed).
 
 mod seeded;
 

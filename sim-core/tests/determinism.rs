@@ -3,13 +3,12 @@
 //! seeded parts (the crumple jitter). The hash is compared between runs of this build — a golden
 //! constant would tie the test to one CPU's floating-point paths.
 
-use sim_core::physics::SolverKind;
 use sim_core::scenario;
 use sim_core::scenario_run::{run_script, state_hash};
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, SimConfig};
 
-fn hashes(name: &str, seed: Option<u64>, kind: SolverKind) -> Vec<u64> {
+fn hashes(name: &str, seed: Option<u64>) -> Vec<u64> {
     let mut script = scenario::get(name).unwrap();
     if let Some(s) = seed {
         script.set.retain(|(k, _)| k != "seed");
@@ -18,12 +17,7 @@ fn hashes(name: &str, seed: Option<u64>, kind: SolverKind) -> Vec<u64> {
             sim_core::script::ScriptValue::Number(s as f64),
         ));
     }
-    let mut base = SimConfig::default();
-    base.solver.kind = kind;
-    if kind == SolverKind::Xpbd {
-        base.solver.substeps = 8;
-        base.solver.iterations = 1;
-    }
+    let base = SimConfig::default();
     let mut runner = ScriptRunner::new(&script, base.frame_rate_hz, base.room).unwrap();
     let mut sim = runner.start(base);
     let mut out = FrameOutput::default();
@@ -36,20 +30,18 @@ fn hashes(name: &str, seed: Option<u64>, kind: SolverKind) -> Vec<u64> {
 
 #[test]
 fn same_script_and_seed_give_the_same_bits() {
-    for kind in [SolverKind::Newton, SolverKind::Xpbd] {
-        let a = hashes("c5_full_crumple", None, kind);
-        let b = hashes("c5_full_crumple", None, kind);
-        assert_eq!(a, b, "{kind:?}");
-        assert!(a.len() > 800);
-    }
-    let a = hashes("s3_wiggle_near_wall", None, SolverKind::Newton);
-    assert_eq!(a, hashes("s3_wiggle_near_wall", None, SolverKind::Newton));
+    let a = hashes("c5_full_crumple", None);
+    let b = hashes("c5_full_crumple", None);
+    assert_eq!(a, b);
+    assert!(a.len() > 800);
+    let a = hashes("s3_wiggle_near_wall", None);
+    assert_eq!(a, hashes("s3_wiggle_near_wall", None));
 }
 
 #[test]
 fn the_seed_matters_where_randomness_is_used() {
-    let a = hashes("c5_full_crumple", Some(1), SolverKind::Newton);
-    let b = hashes("c5_full_crumple", Some(2), SolverKind::Newton);
+    let a = hashes("c5_full_crumple", Some(1));
+    let b = hashes("c5_full_crumple", Some(2));
     assert_ne!(a.last(), b.last(), "crumple jitter depends on the seed");
 }
 

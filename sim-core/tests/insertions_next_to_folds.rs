@@ -11,7 +11,7 @@
 //!
 //! Breakage detected: the default run exceeding the limit; and if the run with insertions at
 //! s̄ no longer exceeds it, the crumple's course has changed and the case must be found again
-//! (`INS_STRAIN=inf cargo run --release -p sim-core --example iter_hist -- s4_crumple@SEED`).
+//! (`INS_STRAIN=inf cargo run --release -p papier-lab -- iter-hist s4_crumple@SEED`).
 
 mod seeded;
 

@@ -5,8 +5,8 @@
 //! ones").
 //!
 //! The fixtures are sheets saved just before a failing frame of the hostile stress sessions
-//! `sim-stress --seed S --sessions 1`, written by
-//! `cargo run --release -p sim-core --example stress_fixture -- S FRAME OUT.json`:
+//! `papier-lab stress --seed S --sessions 1`, written by
+//! `cargo run --release -p papier-lab -- stress-fixture S FRAME OUT.json`:
 //! - seed 2 after frame 6 452 (10⁴-frame session): with neither remedy the next frame stalled
 //!   after 5 iterations and 70 halvings and ended with a triangle next to a hand stretched to
 //!   2.07× its length (strain 1.065 > `MAX_STRAIN`); pinning ends it at 0.699, solving it

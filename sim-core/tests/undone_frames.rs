@@ -23,8 +23,8 @@
 //! Breakage detected: each case fails without its part of the relaxation (checked by
 //! disabling it); a course that no longer makes such a frame (any change to the crumple's
 //! play) fails the first assertion, which says to find another run (`cargo run --release -p
-//! sim-core --example iter_hist -- s4_crumple@SEED` prints the largest strain, the undone and
-//! the relaxed frames of each seed; `INS_STRAIN=inf` plays insertions at s̄).
+//! papier-lab -- iter-hist s4_crumple@SEED` prints the largest strain, the undone and the
+//! relaxed frames of each seed; `INS_STRAIN=inf` plays insertions at s̄).
 
 mod seeded;
 

@@ -17,16 +17,16 @@
 
 use std::sync::Arc;
 
+use papier::engine::SheetStore;
 use papier::engine::{Engine, Meters, ParamValues, SimMode};
 use papier::gesture_map::MidiInput;
-use papier::state::SheetStore;
 use sim_core::{GestureParam, Sim};
 
 const RATE: f64 = 48_000.0;
 const FRAME: usize = 240;
 
 fn engine(params: &ParamValues) -> Engine {
-    let mut sim = Sim::new(papier::sim_config(params));
+    let mut sim = Sim::new(papier::engine::sim_config(params));
     papier::engine::sync_fresh_sim(&mut sim, params);
     Engine::new(
         SimMode::Lockstep,
@@ -38,6 +38,7 @@ fn engine(params: &ParamValues) -> Engine {
         0,
         Arc::new(Meters::default()),
         Arc::new(papier::engine::ViewShared::default()),
+        papier::engine::permit_always,
     )
     .expect("engine")
 }

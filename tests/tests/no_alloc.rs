@@ -13,9 +13,9 @@
 
 use std::sync::Arc;
 
+use papier::engine::SheetStore;
 use papier::engine::{Engine, Meters, ParamValues, SimMode};
 use papier::gesture_map::{self, MidiInput};
-use papier::state::SheetStore;
 use sim_core::{GestureParam, Sim};
 use sounddb::SoundDb;
 
@@ -44,7 +44,7 @@ fn the_checker_counts_allocations() {
 
 fn engine(mode: SimMode, sample_rate: f64) -> Engine {
     let params = ParamValues::default();
-    let mut sim = Sim::new(papier::sim_config(&params));
+    let mut sim = Sim::new(papier::engine::sim_config(&params));
     papier::engine::sync_fresh_sim(&mut sim, &params);
     Engine::new(
         mode,
@@ -56,6 +56,8 @@ fn engine(mode: SimMode, sample_rate: f64) -> Engine {
         0,
         Arc::new(Meters::default()),
         Arc::new(papier::engine::ViewShared::default()),
+        // What the plugin hands the engine: the allocation checker's permit.
+        |f| nice_assert_no_alloc::permit_alloc(f),
     )
     .expect("engine")
 }

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use papier::gesture_map::MidiInput;
+use papier::offline::frame_log::frames_to_string;
 use papier::offline::midi_file::{TimedMidi, write_smf};
-use papier::render::frame_log::frames_to_string;
 use papier_tests::audio::{all_finite_normal, peak, read_stereo};
 use papier_tests::paths;
 use sim_core::RoomConfig;

@@ -583,7 +583,7 @@ fn dir_bytes(dir: &Path) -> u64 {
         .sum()
 }
 
-/// What `cargo xtask sounddb --material M --out DIR` does (xtask/src/sounddb_cmd.rs: generate
+/// What `cargo xtask sounddb --material M --out DIR` does (sounddb/src/main.rs: generate
 /// with the material's seed, write the folder, load it back through the validating loader), for
 /// every material: the folder loads with no warning at all; every (l_r, l_c/2) cell of the grid
 /// {2.5, …, 30} cm holds the 3 flap variants and the 1 friction spectrum the generator promises

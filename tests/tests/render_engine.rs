@@ -5,7 +5,7 @@
 
 mod render_common;
 
-use papier::render::frame_log::{frames_to_string, parse_frame_log};
+use papier::offline::frame_log::{frames_to_string, parse_frame_log};
 use papier::render::{MixLevels, RenderOptions, Renderer};
 use render_common::*;
 use sim_core::sound_input::{CrumpleEvent, SoundFrame};

@@ -1,4 +1,4 @@
-//! The README's two commands.
+//! The README's two commands, and running the workspace's tools through cargo.
 //!
 //! - `cargo xtask demo`: builds the standalone application (when the ALSA/JACK headers are there
 //!   or can be installed), the `Papier.clap` and `Papier.vst3` bundles and `papier-render`, then
@@ -7,6 +7,8 @@
 //! - `cargo xtask test`: installs what the tests need (Debian packages, the Python environment
 //!   of the VST3 host test), builds the bundles, checks formatting and lints, and runs every
 //!   test of the workspace, the real-host tests included.
+//! - [`cargo_run`]: `cargo xtask sounddb` and `cargo xtask bench-report` run the `sounddb` and
+//!   `papier-lab` binaries through cargo, so xtask itself links neither.
 //!
 //! The standalone is built before the bundles on purpose: building the plugin crate with the
 //! `standalone` feature also relinks `libpapier.so`, and the bundle step must relink it without
@@ -19,7 +21,8 @@ use anyhow::{Context, bail};
 
 use crate::system;
 
-fn cargo(args: &[&str]) -> anyhow::Result<()> {
+/// Runs `cargo ARGS` (the cargo running xtask, else the one on the path); an error if it fails.
+pub fn cargo(args: &[&str]) -> anyhow::Result<()> {
     eprintln!("xtask: cargo {}", args.join(" "));
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let ok = Command::new(cargo)
@@ -31,6 +34,17 @@ fn cargo(args: &[&str]) -> anyhow::Result<()> {
         bail!("cargo {} failed", args.join(" "));
     }
     Ok(())
+}
+
+/// Runs a workspace binary in release: `cargo run --release TARGET -- ARGS`, where `TARGET`
+/// selects it (`-p PACKAGE [--bin NAME]`), in the current directory (relative paths in `ARGS`
+/// stay the caller's).
+pub fn cargo_run(target: &[&str], args: &[String]) -> anyhow::Result<()> {
+    let mut all = vec!["run", "--release"];
+    all.extend_from_slice(target);
+    all.push("--");
+    all.extend(args.iter().map(String::as_str));
+    cargo(&all)
 }
 
 fn target_dir() -> PathBuf {

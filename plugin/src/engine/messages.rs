@@ -14,12 +14,12 @@
 //! a skipped snapshot loses nothing; their onsets and ends are where that state changes. So
 //! contact and tear *events* are carried as state in the snapshot, not as
 //! queue entries (said in the README); a future impact or tear-start sound that must not be
-//! missed gets its own [`SimEventKind`] variant.
+//! missed gets its own [`SimEvent`] variant.
 //!
 //! A full queue never blocks: the sender counts the loss.
 
 use sim_core::Command;
-use sim_core::sim::FrameStats;
+use sim_core::room::RoomConfig;
 use sim_core::sound_input::{CrumpleEvent, SoundFrame};
 
 /// Capacity of the audio → worker command queue.
@@ -32,8 +32,12 @@ pub const EVENT_QUEUE_CAPACITY: usize = 1024;
 pub enum WorkerMsgKind {
     /// A simulation command.
     Command(Command),
-    /// A project state was loaded: rebuild the sheet from the sheet store.
-    RestoreSheet,
+    /// A project state was loaded: rebuild the sheet from the sheet store, in the loaded
+    /// project's room.
+    RestoreSheet {
+        /// The loaded project's room.
+        room: RoomConfig,
+    },
 }
 
 /// A timestamped message for the worker.
@@ -50,26 +54,13 @@ pub struct WorkerMsg {
 pub struct SimSnapshot {
     /// Frames stepped so far (0 = none yet).
     pub frames_stepped: u64,
-    /// Sample position at which this frame's output starts to sound.
-    pub at_sample: u64,
     /// Sound input (its crumple events travel as [`SimEvent`]s instead).
     pub sound: SoundFrame,
-    /// Frame statistics.
-    pub stats: FrameStats,
 }
 
-/// A discrete event of a frame.
+/// A discrete event of a frame (it sounds with the frame's snapshot).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SimEventKind {
+pub enum SimEvent {
     /// A crumpling sound to start.
     Crumple(CrumpleEvent),
-}
-
-/// A timestamped discrete event.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SimEvent {
-    /// Sample position of the frame that produced it.
-    pub at_sample: u64,
-    /// The event.
-    pub kind: SimEventKind,
 }

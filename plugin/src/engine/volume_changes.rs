@@ -6,10 +6,9 @@
 //! it is kept here, stamped the same way, and [`super::Engine::render`] splits its block at each
 //! change: the mix's 10 ms glide starts at the message's own sample.
 //!
-//! Before, a volume change took effect at the start of the block that carried it, so where a
-//! host's blocks began decided where the glide began and a render depended on the block size
-//! (found by the damaged-input run of `tests/tests/bad_input_files.rs`: a MIDI file with a CC 7
-//! rendered differently in blocks of 7 and of 4096 samples at 88.2 kHz).
+//! A change taking effect at the start of the block that carries it would let the host's block
+//! boundaries decide where the glide begins, and a render would depend on the block size
+//! (docs/decisions.md, "Smaller rules and the runs that found them").
 //!
 //! The queue is fixed-size ([`CAPACITY`] changes, no allocation on the audio thread). A block
 //! carrying more changes than that gives up on the oldest: it takes effect at once, which is

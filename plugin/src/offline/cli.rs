@@ -11,7 +11,7 @@
 //! lasts as long as the longest input. Values given with `--seed` and `--set` are applied at
 //! t = 0 after the scripts' `[set]` tables, so the command line wins.
 //!
-//! `--frames` plays a recorded log of sound frames ([`crate::render::frame_log`]) through the
+//! `--frames` plays a recorded log of sound frames ([`super::frame_log`]) through the
 //! render path without simulating a sheet ([`super::frame_replay`]); it is an input of its own
 //! and cannot be combined with other inputs, `--obj-dir`, `--write-frames` or `--write-midi`
 //! (a log holds sounds, not gestures or a sheet). `--write-frames` records the sound frames of a
@@ -120,7 +120,7 @@ Renders Papier offline (the plugin's engine, stepped in lockstep with the audio)
   --script FILE      play a TOML automation script (sim-core/src/script.rs)
   --scene NAME       play a built-in scenario (see --list-scenes)
   --frames FILE      play a recorded log of sound frames (JSON lines, one frame per line,
-                     plugin/src/render/frame_log.rs) without simulating the sheet: each frame
+                     plugin/src/offline/frame_log.rs) without simulating the sheet: each frame
                      sounds from its time_s on, the render ends at the last frame's time_s;
                      only the sound settings apply (seed, room, listener, mix); on its own
   --out FILE         output WAV (stereo, 32-bit float)
@@ -200,7 +200,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
             }
             "--seed" => {
                 let v = value("--seed")?;
-                let max = crate::params::MAX_SEED as u64;
+                let max = crate::engine::param_values::MAX_SEED as u64;
                 seed = Some(
                     v.parse::<u64>()
                         .ok()

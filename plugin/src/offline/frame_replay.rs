@@ -1,6 +1,6 @@
 //! # Frame logs in `papier-render`: replay (`--frames`) and recording (`--write-frames`)
 //!
-//! A frame log ([`crate::render::frame_log`]) holds the sound input of a render, one
+//! A frame log ([`super::frame_log`]) holds the sound input of a render, one
 //! [`SoundFrame`] per line. `--write-frames FILE` records the frames the simulated sheet delivers
 //! to the render path during an ordinary render ([`FrameRecorder`]); `--frames FILE` plays a log
 //! (recorded so, or written by another tool) through the same render path ([`Renderer`], set up
@@ -49,13 +49,14 @@ use std::path::{Path, PathBuf};
 
 use sim_core::sound_input::SoundFrame;
 
+use super::OfflineError;
 use super::cli::InputSpec;
+use super::frame_log::{FrameLogError, FrameLogReader, write_frame};
 use super::timeline::{HostEvent, Timeline};
-use super::{AudioOut, OfflineError};
+use super::wav_out::{AudioOut, sanitize};
 use crate::engine::{FrameClock, ParamValues};
 use crate::gesture_map::{self, Action};
 use crate::render::Renderer;
-use crate::render::frame_log::{FrameLogError, FrameLogReader, write_frame};
 
 /// The frame rate whose grid replay snaps to, Hz (the simulation's).
 pub const LOG_FRAME_RATE_HZ: f64 = sim_core::sim::DEFAULT_FRAME_RATE_HZ;
@@ -201,7 +202,7 @@ pub(super) fn play(
             sub = sub_end;
         }
         let n = (block_end - pos) as usize;
-        super::sanitize(&mut left[..n], &mut right[..n]);
+        sanitize(&mut left[..n], &mut right[..n]);
         out.write(&left[..n], &right[..n])?;
         pos = block_end;
         progress.set_position(pos);
@@ -351,7 +352,7 @@ impl FrameRecorder {
         self.log.replay_options = replay_options(params);
         self.log.not_in_log = not_in_log;
         let mut text = format!(
-            "# Papier sound-frame log (JSON lines, papier::render::frame_log), {} frames/s on the \
+            "# Papier sound-frame log (JSON lines, papier::offline::frame_log), {} frames/s on the \
              render's timeline\n# recorded by papier-render {} at {sample_rate_hz} Hz\n# replay: {}\n",
             self.frame_rate_hz,
             describe_inputs(inputs),
@@ -415,7 +416,7 @@ mod tests {
         let d = ParamValues::default();
         let p = ParamValues {
             // The largest seed the parameter (and `--seed`) accepts.
-            seed: crate::params::MAX_SEED as u64,
+            seed: crate::engine::param_values::MAX_SEED as u64,
             room: sim_core::RoomConfig {
                 wall: true,
                 wall_dist_cm: 17.3,

@@ -29,9 +29,9 @@
 //!   (`super::smoothing::LinearRamp`), so there is no zipper; it lands exactly on 0 when tearing
 //!   stops, and then the generator does not run at all (§11.3, counted). That is decided per
 //!   sample, not per `render` call: where the host's blocks end must not decide for how many
-//!   samples the generator ran, or the next tear would draw other grains (found by the
-//!   damaged-input run of `tests/tests/bad_input_files.rs`: a frame log at 44.1 kHz, whose
-//!   frames come 220 and 221 samples apart, rendered differently in blocks of 64 and 333).
+//!   samples the generator ran, or the next tear would draw other grains and a render would
+//!   depend on the block size (docs/decisions.md, "Smaller rules and the runs that found
+//!   them").
 //!   A frame that sets the speed it already has (0, every frame of a sheet that does not tear)
 //!   leaves the generator idle.
 //! - **Denormal safety** (digest-tearing §3.2): r^α underflows f32 for most r (r^100 is subnormal

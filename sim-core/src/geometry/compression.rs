@@ -1,36 +1,10 @@
 //! # Compression analysis and imaginary-ruling propagation (module doc steps 3–4 of [`super`];
 //! TOG 2015 §4.2 and Appendix A, thesis §2.4.3; digest-crumpling §3.2–3.4): the most compressed
-//! flat triangle starts a pass, the walk along v⊥ ends at two borders, the strip becomes curved
-//! (and, with cutting on, waits to be cut along its ruling).
+//! flat triangle starts a pass, the walk along v⊥ ends at two borders, the strip becomes curved.
 
 use super::*;
 
 impl GeometryLayer {
-    /// The strip found last frame to be cut, if any: its crossings in line order and the frame
-    /// (taken: the sim cuts it, [`crate::sheet::cut::cut_along`], then calls
-    /// [`Self::strip_cut`] on the layer rebuilt for the new mesh; an undone frame drops it).
-    /// Allocates the returned list (a cut is an event).
-    pub fn take_pending_cut(&mut self) -> Option<(Vec<EdgeCrossing>, u64)> {
-        let f = self.pending_cut_frame.take()?;
-        let line = self.pending_cut.clone();
-        self.pending_cut.clear();
-        Some((line, f))
-    }
-
-    /// The crossings of the strip waiting to be cut, in line order, if any.
-    pub fn pending_cut(&self) -> Option<&[EdgeCrossing]> {
-        self.pending_cut_frame.map(|_| self.pending_cut.as_slice())
-    }
-
-    /// Reports the cut of a strip (chain of `chain_vertices` S_P vertices, `added` of them
-    /// new) as this frame's event.
-    pub fn strip_cut(&mut self, chain_vertices: u32, added: u32) {
-        self.out.push_event(ShapeEvent::StripCut {
-            chain_vertices,
-            added_vertices: added,
-        });
-    }
-
     /// Steps 3–6: compression analysis, propagation, singular vertices, fibre damage.
     pub(super) fn treat_compression(
         &mut self,
@@ -90,7 +64,6 @@ impl GeometryLayer {
                 // about its most bent edge (the first strongly bent ruling, P 700–704).
                 self.strip.clear();
                 self.strip.push(t_comp as u32);
-                self.cut_line.clear();
                 let mut e_best: Option<(f64, u32)> = None;
                 for k in 0..3 {
                     let e = sp.topo.he_edge[3 * t_comp + k];
@@ -127,20 +100,6 @@ impl GeometryLayer {
                 self.curved[t as usize] = true;
                 self.refractory_until[t as usize] = frame + REFRACTORY_FRAMES;
             }
-            if !was_curved
-                && self.cfg.cut_strips
-                && self.pending_cut_frame.is_none()
-                && borders.iter().all(|b| *b != Border::None)
-                && self.strip.len() >= MIN_CUT_STRIP_TRIANGLES
-                && !self
-                    .cut_line
-                    .iter()
-                    .any(|c| c.edge.iter().any(|&v| self.near_held[v as usize]))
-            {
-                self.pending_cut.clear();
-                self.pending_cut.extend_from_slice(&self.cut_line);
-                self.pending_cut_frame = Some(frame);
-            }
             if made == 0 && !was_curved {
                 let n = self.strip.len() as u32;
                 self.out.push_event(ShapeEvent::StripCurved {
@@ -157,7 +116,6 @@ impl GeometryLayer {
     pub(super) fn propagate(&mut self, sp: &PhysMesh, t_comp: u32, v_perp: V2) -> [Border; 2] {
         self.strip.clear();
         self.strip.push(t_comp);
-        self.cut_line.clear();
         let tri = sp.triangles[t_comp as usize];
         let centroid = (sp.pattern[tri[0] as usize]
             + sp.pattern[tri[1] as usize]
@@ -176,18 +134,7 @@ impl GeometryLayer {
             let aniso = &self.tri_aniso;
             let bend = &self.tri_bend;
             let strip = &mut self.strip;
-            let cut_line = &mut self.cut_line;
-            let side_start = cut_line.len();
             walk::walk(sp, t_comp, centroid, dir, MAX_WALK, |c| {
-                // The strip's crossings, up to and including its border edge: the line a
-                // strip cut splits (`GeometryConfig::cut_strips`).
-                if in_curved.is_none() && cut_line.len() < cut_line.capacity() {
-                    let h = c.half_edge;
-                    cut_line.push(EdgeCrossing {
-                        edge: [sp.topo.half_edges[h as usize].origin, sp.topo.dest(h)],
-                        u: c.u,
-                    });
-                }
                 if let Some((_, steps)) = in_curved {
                     if c.to == NONE || steps >= 4 {
                         // No strongly bent ruling right behind the border: the curved region
@@ -230,11 +177,6 @@ impl GeometryLayer {
                 }
             });
             borders[side] = border;
-            if side == 1 {
-                // Line order: the second walk's crossings reversed, then the first walk's.
-                self.cut_line[side_start..].reverse();
-                self.cut_line.rotate_left(side_start);
-            }
         }
         borders
     }

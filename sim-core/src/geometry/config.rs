@@ -21,7 +21,7 @@ pub struct GeometryConfig {
     /// compression exceeds this × ε_c (impl. choice, see the module doc).
     pub curved_eps_factor: f64,
     /// A vertex whose ring normals spread by φ in two directions becomes singular when
-    /// φ²/6 exceeds this × ε_c (impl. choice, see the module doc); infinite = off.
+    /// φ²/6 exceeds this × ε_c (impl. choice, see the module doc).
     pub gauss_eps_factor: f64,
     /// A non-developable vertex closer than this (pattern distance, metres) to an existing
     /// singular vertex is explained by that vertex's d-cone and not made singular.
@@ -31,41 +31,20 @@ pub struct GeometryConfig {
     /// Place a singular vertex exactly at its drawn position s̄: when the nearest S_P vertex
     /// cannot move there in full, a new S_P vertex is inserted at s̄ after the frame
     /// ([`crate::sheet::refine`]; off = the nearest vertex moves part of the way, or not at all,
-    /// and S_P's connectivity never changes). On by default (see the module doc, "A singular
-    /// point gets an S_P vertex at s̄").
+    /// and S_P's connectivity never changes; for the bench report's comparison rows). On by
+    /// default (see the module doc, "Implementation decisions").
     pub insert_singular_vertices: bool,
     /// Largest start strain (|l/l̄ − 1| of its edges) of a vertex inserted at s̄ before the
     /// insertion looks for a less strained place close by: the foot of s̄ on a folded edge,
-    /// or the nudges of [`crate::sheet::refine::insert_vertex_near`] (see the module doc, "A
-    /// singular point gets an S_P vertex at s̄"). Default
+    /// or the nudges of [`crate::sheet::refine::insert_vertex_near`] (see the module doc,
+    /// "Implementation decisions"). Default
     /// [`crate::sheet::refine::SPLIT_START_STRAIN_MAX`] (5 %); infinite: at s̄ whatever the
-    /// strain (the behaviour before 2026-11-29, kept for comparisons and tests).
+    /// strain (the tests use it to make strained insertions on purpose).
     pub insertion_max_start_strain: f64,
     /// Flip a compressed S_P edge inside a flat region whose quad's other diagonal is not
     /// compressed (the seeds' flip rule, T 826; done by the sim at the start of the next step,
-    /// [`crate::sheet::refine::flip_edge`]). On by default (see the module doc, "Edge flips").
+    /// [`crate::sheet::refine::flip_edge`]). On by default (see the module doc, step 2).
     pub flip_compressed_edges: bool,
-    /// Cut S_P along a new strip's imaginary ruling, so that the ruling becomes a chain of
-    /// S_P edges the sheet can bend along (the seeds' strip cutting, TOG P 459–487; done by the
-    /// sim at the start of the next step, [`crate::sheet::cut`]). Off by default: every cut
-    /// adds triangles and Newton work for as long as the sheet stays bent along it
-    /// (coarsening, [`Self::coarsen_flat_regions`], takes them out only where it opens out
-    /// flat again; see the module doc, "Strip cutting").
-    pub cut_strips: bool,
-    /// Take a vertex that a strip cut added out of S_P again once the sheet is flat, unheld
-    /// and at rest around it (plan step 2 of `docs/sp-regeneration-plan.md`; done by the sim at
-    /// the start of the next step, [`crate::sheet::coarsen`]). Only vertices beyond the
-    /// initial lattice that are not singular are candidates — with `cut_strips` off there are
-    /// none. On by default (see the module doc, "Coarsening").
-    pub coarsen_flat_regions: bool,
-    /// Regenerate S_P from S_G after every awake frame in which the sheet has a curved region
-    /// (the seeds' step (g), TOG §4.1 / §5; [`crate::sheet::regenerate`], done by the sim at the
-    /// end of the step), and run the isometry step (h) on the regenerated S_P instead of inside
-    /// the layer. Off by default: measured over every seed scene, the mode costs 3.7–8.9× the
-    /// default's frame, is 5–300× less accurate (c_mean) and creates singular points where the
-    /// default has none, and it allocates (`docs/sp-regeneration-plan.md`, "Per-frame
-    /// regeneration, built and measured").
-    pub regenerate_sp: bool,
 }
 
 impl Default for GeometryConfig {
@@ -83,9 +62,6 @@ impl Default for GeometryConfig {
             insert_singular_vertices: true,
             insertion_max_start_strain: crate::sheet::refine::SPLIT_START_STRAIN_MAX,
             flip_compressed_edges: true,
-            cut_strips: false,
-            coarsen_flat_regions: true,
-            regenerate_sp: false,
         }
     }
 }

@@ -237,23 +237,6 @@ pub enum ShapeEvent {
         /// True when both borders were free (a new generalized cylinder).
         cylinder: bool,
     },
-    /// A new strip's imaginary ruling was cut into S_P ([`GeometryConfig::cut_strips`]): the
-    /// sheet's triangles changed, not its shape.
-    StripCut {
-        /// S_P vertices on the cut line (a chain of edges).
-        chain_vertices: u32,
-        /// Of them, new vertices.
-        added_vertices: u32,
-    },
-    /// A vertex a strip cut had added was taken out of S_P again, the sheet being flat around
-    /// it ([`GeometryConfig::coarsen_flat_regions`]): the sheet's triangles changed, not its
-    /// shape.
-    VertexCollapsed {
-        /// The removed vertex's index before (vertices after it moved down by one).
-        removed: u32,
-        /// The vertex that took its place, index after.
-        into: u32,
-    },
     /// Curved triangles turned flat (regions flattened or shrunk).
     Flattened {
         /// Triangles that turned flat.

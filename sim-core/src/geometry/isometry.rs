@@ -18,13 +18,11 @@
 //! iterations; we add the Tikhonov term ε (relative to tr LᵀL, impl. choice suggested by the
 //! digest), stop as soon as C₁ + C₂ is below a tolerance, and fall back to the start
 //! directions if anything becomes non-finite. We also stop at the first iteration that lowers
-//! C₁ + C₂ by less than 1 %, and undo one that raises it (impl. choice): measured on the
-//! scenarios (`examples/iso_conv.rs`), the first iteration halves C₁ + C₂ and later ones
-//! oscillate — after 40 or 200 iterations C₁ + C₂ is higher than after one — while every
-//! frame paid for the whole 40-iteration cap (half of the layer's time). Over the 12 seed
-//! scenarios the lengths after Phase II are as good (mean c_mean 0.0070 % either way). Lengths are normalized by the mean pattern edge
-//! length so the constraint values are dimensionless. s_e = ±1 orients each edge along the
-//! triangle's counter-clockwise traversal.
+//! C₁ + C₂ by less than 1 %, and undo one that raises it (impl. choice): the first iteration
+//! halves C₁ + C₂ and later ones oscillate, so running to the cap cost half of the layer's
+//! time for no better lengths after Phase II (docs/decisions.md, "Isometry: when it runs").
+//! Lengths are normalized by the mean pattern edge length so the constraint values are
+//! dimensionless. s_e = ±1 orients each edge along the triangle's counter-clockwise traversal.
 //!
 //! **Phase II — positions.** The sparse least-squares problem (eq. 7)
 //!
@@ -39,13 +37,14 @@
 //! The small proximity term μ (impl. choice) fixes the free translation when nothing is held
 //! and follows the paper's aim of moving vertices as little as possible (P 1192–1218).
 //!
-//! **Compression only** (impl. choice, on by default): the seeds' geometric layer treats
-//! compression and leaves extension alone (λ > 1 "is not treated", T 848; tearing is separate),
-//! and their error measure counts compression only (P 1435–1437). Restoring *stretched* edges
-//! to their pattern length with the held vertices fixed pushes the stretch of a pulled sheet
-//! into compression elsewhere; the benchmark measured that the symmetric version raised c_mean
-//! above the physics alone. So an edge longer than its pattern length keeps its current length
-//! as its target ([`IsometryConfig::compression_only`]; off = the paper's symmetric targets).
+//! **Compression only** (impl. choice): the seeds' geometric layer treats compression and
+//! leaves extension alone (λ > 1 "is not treated", T 848; tearing is separate), and their error
+//! measure counts compression only (P 1435–1437). Restoring *stretched* edges to their pattern
+//! length with the held vertices fixed pushes the stretch of a pulled sheet into compression
+//! elsewhere: the paper's symmetric targets raised c_mean above the physics alone
+//! (docs/decisions.md, "Isometry: compression-only targets"). So an edge longer than its
+//! pattern length keeps its current length as its target ([`Targets::CompressionOnly`]; the seeds' symmetric [`Targets::Pattern`] serves
+//! the Table III validation test).
 //!
 //! **When it runs** (impl. choice). The seeds run the step every frame. Here it runs in every
 //! frame in which a gesture or a moving obstacle drives the sheet, and otherwise only when
@@ -55,25 +54,16 @@
 //! equilibrium is slightly compressed where hands hold it squeezed (the membrane is soft,
 //! `SolverConfig::stretch_scale`). Correcting those sub-percent compressions every frame
 //! fights the next physics step, which undoes them. The step moves positions, not
-//! velocities, so each correction comes back as a velocity kick. Measured on C5 held at the
-//! crumple cap (`examples/hold_probe.rs`, seed 5): with the step every frame, the held
-//! sheet kept moving at 0.3–0.6 m/s (largest vertex speed, mean per 50 frames) in a
-//! saw-tooth: compression built up over ~6 frames, then snapped back. It took ~9 Newton
-//! iterations per frame. With the trigger the step stops when the hands stop, and within
-//! 1 s the held sheet slowed to 0.05 m/s at ~7 iterations per frame. What still moved it
-//! there were two cycles outside this step, since fixed: crumple hands that gave way and
-//! crept back to the same target (handles.rs, `HandState::advance`), and a vertex pressed
-//! into the table that the contact depth limit put back every frame (collision.rs "Depth
-//! limit"). Now the held ball comes to rest and sleeps.
+//! velocities, so each correction comes back as a velocity kick: with the step every frame a
+//! held crumpled sheet never came to rest (docs/decisions.md, "Isometry: when it runs").
 //!
 //! Undriven, the step also skips a compression it has already met: after an undriven run it
 //! runs again only once the largest compression exceeds the one it corrected by 10 %
 //! ([`crate::geometry::ISO_REBUILT_FACTOR`]), or after the sheet was driven or the
 //! compression fell below the trigger. A compression that the physics rebuilds after each
-//! correction is the hands' doing. Measured on C5 with the hand fix alone: the held ball sat
-//! with one edge above 1 %, and the step moved it by 148 µm in every frame only for the next
-//! physics step to move it back (8 Newton iterations per frame, for 400 frames). The bench
-//! report keeps an "isometry every frame" row for comparison.
+//! correction is the hands' doing, and correcting it every frame only fed the physics a
+//! motion to undo (same section). `IsometryConfig::{enabled, phase1_min_decrease,
+//! trigger_compression}` off: for the bench report's comparison rows ("isometry every frame").
 //!
 //! Everything is f64 (digest §10).
 
@@ -99,9 +89,6 @@ pub struct IsometryConfig {
     pub phase2_rel_tol: f64,
     /// Proximity weight μ relative to a unit edge weight.
     pub proximity: f64,
-    /// Restore only compressed edges: an edge longer than its pattern length keeps its
-    /// current length as the target (impl. choice, see the module doc).
-    pub compression_only: bool,
     /// Skip the step in frames where some vertex is faster than this, m/s (impl. choice:
     /// the correction moves positions, not velocities; in violent motion that inconsistency
     /// let the next physics steps turn facets over in the stress runs).
@@ -122,11 +109,21 @@ impl Default for IsometryConfig {
             phase1_min_decrease: Some(0.01),
             phase2_rel_tol: 1e-7,
             proximity: 1e-3,
-            compression_only: true,
             max_speed_m_s: 1.0,
             trigger_compression: Some(0.01),
         }
     }
+}
+
+/// The edge lengths the optimizer restores (module doc, "Compression only").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Targets {
+    /// Compressed edges to their pattern length, stretched ones kept as they are (the frame
+    /// loop's choice).
+    CompressionOnly,
+    /// Every edge to its pattern length: the seeds' symmetric targets, as their Table III
+    /// measures the method (the validation test).
+    Pattern,
 }
 
 /// What one run did.
@@ -281,23 +278,24 @@ impl Isometry {
         (c1, c2)
     }
 
-    /// Runs Phase I and Phase II on `sp.pos`, keeping the vertices with `fixed[i]` in place.
+    /// Runs Phase I and Phase II on `sp.pos`, keeping the vertices with `fixed[i]` in place,
+    /// towards `targets` (the frame loop: [`Targets::CompressionOnly`]).
     #[allow(clippy::needless_range_loop)] // parallel per-vertex arrays indexed together
     pub fn run(
         &mut self,
         sp: &mut PhysMesh,
         fixed: &[bool],
         cfg: &IsometryConfig,
+        targets: Targets,
     ) -> IsometryReport {
         let mut rep = IsometryReport::default();
         let topo = &sp.topo;
         // Target lengths (normalized).
         for k in 0..self.lbar.len() {
             let rest = sp.edge_rest_len_m[k];
-            let l = if cfg.compression_only {
-                rest.max(sp.edge_length_m(k))
-            } else {
-                rest
+            let l = match targets {
+                Targets::CompressionOnly => rest.max(sp.edge_length_m(k)),
+                Targets::Pattern => rest,
             };
             self.lbar[k] = if l.is_finite() {
                 l / self.l_mean
@@ -593,15 +591,13 @@ mod tests {
         fixed[5] = true;
         let held = [sp.pos[0], sp.pos[5]];
         let mut iso = Isometry::new(&sp);
-        // The paper's symmetric targets (Table III measures the plain method).
         let cfg = IsometryConfig {
             phase1_max_iters: 200,
             phase2_max_iters: 200,
-            compression_only: false,
             ..IsometryConfig::default()
         };
         let before = sp.pos.clone();
-        let rep = iso.run(&mut sp, &fixed, &cfg);
+        let rep = iso.run(&mut sp, &fixed, &cfg, Targets::Pattern);
         let c_m = c_mean(&sp);
         assert!(
             c_m <= 0.5 * c_init,
@@ -639,7 +635,12 @@ mod tests {
         let c_init = c_mean(&sp);
         let fixed = vec![false; sp.num_vertices()];
         let mut iso = Isometry::new(&sp);
-        let rep = iso.run(&mut sp, &fixed, &IsometryConfig::default());
+        let rep = iso.run(
+            &mut sp,
+            &fixed,
+            &IsometryConfig::default(),
+            Targets::CompressionOnly,
+        );
         let c_m = c_mean(&sp);
         assert!(
             c_m <= 0.5 * c_init,
@@ -663,7 +664,7 @@ mod tests {
             phase1_tol: 0.0,
             ..IsometryConfig::default()
         };
-        let rep = iso.run(&mut sp, &fixed, &cfg);
+        let rep = iso.run(&mut sp, &fixed, &cfg, Targets::CompressionOnly);
         assert!(sp.pos.iter().all(|p| p.iter().all(|c| c.is_finite())));
         assert!(!rep.fell_back);
         let moved = sp

@@ -5,30 +5,6 @@ use super::*;
 
 impl GeometryLayer {
     /// Step 9: isometry optimization, obstacle guard, vertex jump.
-    /// Step (h) after step (g), when S_P is regenerated every frame
-    /// ([`crate::geometry::GeometryConfig::regenerate_sp`]; the seeds' order, digest-crumpling
-    /// §3.0): the isometry step on the S_P the sim has just rebuilt (or kept), with the facet
-    /// normals it guards taken from that mesh. Arguments as for [`Self::update`].
-    pub fn isometry_after_regeneration(
-        &mut self,
-        sp: &mut PhysMesh,
-        fixed: &[bool],
-        obstacles: &Obstacles,
-        driven: bool,
-        start_normals: &[V3],
-    ) {
-        self.tri_normal.resize(sp.triangles.len(), V3::z());
-        for (n, tri) in self.tri_normal.iter_mut().zip(&sp.triangles) {
-            let x = tri.map(|i| sp.pos[i as usize]);
-            *n = (x[1] - x[0])
-                .cross(&(x[2] - x[0]))
-                .try_normalize(0.0)
-                .unwrap_or_else(V3::z);
-        }
-        self.isometry(sp, fixed, obstacles, driven, start_normals);
-        self.sync_positions(sp);
-    }
-
     pub(super) fn isometry(
         &mut self,
         sp: &mut PhysMesh,
@@ -71,7 +47,12 @@ impl GeometryLayer {
             self.iso_undriven_compression = comp;
         }
         self.pos_before.copy_from_slice(&sp.pos);
-        self.out.isometry = self.iso.run(sp, fixed, &self.cfg.isometry);
+        self.out.isometry = self.iso.run(
+            sp,
+            fixed,
+            &self.cfg.isometry,
+            isometry::Targets::CompressionOnly,
+        );
         // Large corrections can destabilize the next physics step (P 1170–1171): each vertex
         // moves at most a tenth of the mean edge per frame.
         let max_step = 0.1 * self.spacing_m;

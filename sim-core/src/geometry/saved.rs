@@ -28,18 +28,6 @@ pub struct SavedGeometry {
     /// compression, frame found). Absent when none (and in saves from before it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pending_flip: Option<([u32; 2], f64, f64, u64)>,
-    /// A strip waiting to be cut: (crossed edges in line order with the crossing parameter,
-    /// frame found). Absent when none (and in saves from before it).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pending_cut: Option<(Vec<([u32; 2], f64)>, u64)>,
-    /// Vertices below this index are the initial lattice's, never taken out by coarsening.
-    /// Absent in saves from before it: every vertex present then stays.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub coarsen_from: Option<u32>,
-    /// A vertex waiting to be taken out of a flat region: (vertex, frame found). Absent when
-    /// none (and in saves from before it).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pending_coarsen: Option<(u32, u64)>,
 }
 
 impl GeometryLayer {
@@ -76,12 +64,6 @@ impl GeometryLayer {
             pending_flip: self
                 .pending_flip
                 .map(|f| (f.edge, f.compression, f.other_compression, f.frame)),
-            pending_cut: self.pending_cut_frame.map(|f| {
-                let line = self.pending_cut.iter().map(|c| (c.edge, c.u)).collect();
-                (line, f)
-            }),
-            coarsen_from: Some(self.coarsen_from as u32),
-            pending_coarsen: self.pending_coarsen,
         }
     }
 
@@ -94,7 +76,7 @@ impl GeometryLayer {
     /// judged on the shape the partition saw, before the isometry step and the end of the frame
     /// moved the sheet. Partitioning the restored sheet again promoted facets by the moved
     /// shape, and the restored sheet then judged its next frame from other flags than the
-    /// uninterrupted one (a hostile stress session, seed 15, frame 9 010).
+    /// uninterrupted one (docs/decisions.md, "Smaller rules and the runs that found them").
     pub fn restore(
         &mut self,
         sp: &PhysMesh,
@@ -160,34 +142,6 @@ impl GeometryLayer {
                         })
                     }
                 };
-                self.pending_cut.clear();
-                self.pending_cut_frame = None;
-                if let Some((line, f)) = &g.pending_cut {
-                    let bad = line.len() > self.pending_cut.capacity()
-                        || line.iter().any(|&([a, b], u)| {
-                            a == b
-                                || a as usize >= nv
-                                || b as usize >= nv
-                                || !(0.0..=1.0).contains(&u)
-                        });
-                    if bad {
-                        return Err("bad pending strip cut".into());
-                    }
-                    self.pending_cut
-                        .extend(line.iter().map(|&(edge, u)| EdgeCrossing { edge, u }));
-                    self.pending_cut_frame = Some(*f);
-                }
-                self.coarsen_from = match g.coarsen_from {
-                    None => nv,
-                    Some(n) if n as usize <= nv => n as usize,
-                    Some(_) => return Err("bad lattice vertex count".into()),
-                };
-                self.pending_coarsen = match g.pending_coarsen {
-                    Some((v, _)) if v as usize >= nv || (v as usize) < self.coarsen_from => {
-                        return Err("bad pending coarsening entry".into());
-                    }
-                    p => p,
-                };
                 self.pending_flip = match g.pending_flip {
                     None => None,
                     Some(([a, b], c, o, f)) => {
@@ -207,10 +161,6 @@ impl GeometryLayer {
                 self.iso_undriven_compression = 0.0;
                 self.pending = None;
                 self.pending_flip = None;
-                self.pending_cut.clear();
-                self.pending_cut_frame = None;
-                self.coarsen_from = nv;
-                self.pending_coarsen = None;
                 for &v in &sp.singular {
                     self.push_singular(sp, v, sp.pattern[v as usize], 0, SingularCase::Restored);
                 }

@@ -36,11 +36,11 @@ impl GestureRig {
     /// A plane moving into a held patch (a table being raised) carries the hands along its
     /// normal, by at most the plane's own motion this frame. It carries **every** active hand
     /// by the largest push any of them needs: the hands hold one sheet and yield to the table
-    /// together. Carrying only the hands it touches (before) pinned their vertices to the rising
-    /// table top while the layers of a held crumpled ball above them were pushed up by the
-    /// table through the layers below: the sheet between was pulled apart (long stress runs,
-    /// seeds 17 and 24: strain above 1, a degenerate or flipped triangle) and held vertices
-    /// slipped into the table. Returns true if it moved any hand.
+    /// together. Carrying only the hands it touches would pin their vertices to the rising
+    /// table top while the layers of a held crumpled ball above them are pushed up by the
+    /// table through the layers below: the sheet between is pulled apart and held vertices
+    /// slip into the table (docs/decisions.md, "Hands, grip and obstacles"). Returns true
+    /// if it moved any hand.
     pub(super) fn carried_by_obstacles(&mut self, obstacles: &Obstacles, dt_s: f64) -> bool {
         let mut moved = false;
         for pl in obstacles.planes.iter() {

@@ -32,8 +32,8 @@
 //! exploding. The line search also refuses steps that turn a triangle over with respect to
 //! the start of the substep (more than 90° in one substep, an angular speed the sheet never
 //! reaches at 200 frames/s except in a numerical blow-up); together with the collapse barrier
-//! of the membrane this keeps the mesh from inverting. An iteration cap below convergence (the usual real-time setting) still returns a
-//! state of lower energy than the start.
+//! of the membrane this keeps the mesh from inverting. An iteration cap below convergence (the
+//! usual real-time setting) still returns a state of lower energy than the start.
 //!
 //! **Stopping** (impl. choice). The tolerance bounds how far the returned x may lie from the
 //! minimizer, i.e. the velocity error `(x − x*)/h`. Our Hessian is an approximation (the
@@ -42,19 +42,15 @@
 //! traced over C5 and C2, each full step is 0.15–0.5 of the one before. With a contraction
 //! Θ < 1 the distance still to go after a step δ_k is at most about Θ/(1 − Θ)·δ_k (the
 //! geometric series of the steps to come), so the solve stops once that estimate is below the
-//! tolerance, as well as when the step itself is. Stopping on the step alone (the rule before,
-//! `SolverConfig::stop_on_error_estimate = false`) ran one more iteration to learn what the
-//! estimate already said: with Θ ≈ 0.25 it left the iterate some 3× inside the tolerance. The
-//! estimate is used only between two full Newton steps (no halving, no damping, no pinning in
-//! between) with Θ < ½, both solved with a fresh factorization or both with the same reused
-//! one (a fresh step followed by a reused one contracts faster than the reused ones after it:
-//! estimated across that pair, the swinging-sheet test below stopped 10 tolerances short);
-//! slower or damped iterations stop on the step as before. Measured with
-//! `STOP=step` against the default of `sim-core/examples/scenario_probe.rs` over the 12 seed
-//! scenes (docs/benchmarks.md): 2–18 % fewer iterations per substep (C4 17 %, C5 and S4 7 %),
-//! the same c_mean and awake frames (the sheets fall asleep as before) in every scene, the
-//! largest strain within 0.001. Unit test: each substep of a swinging sheet stops sooner and
-//! within 2× the tolerance of the step rule's iterate.
+//! tolerance, as well as when the step itself is: stopping on the step alone
+//! (`SolverConfig::stop_on_error_estimate = false`, a bench-report axis) runs one more
+//! iteration to learn what the estimate already said. The estimate is used only between two
+//! full Newton steps (no halving, no damping, no pinning in between) with Θ < ½, both solved
+//! with a fresh factorization or both with the same reused one, since a fresh step followed by
+//! a reused one contracts faster than the reused ones after it; slower or damped iterations
+//! stop on the step. It saves 2–18 % of the iterations at the same accuracy
+//! (docs/decisions.md, "Stopping on the error estimate"). Unit test: each substep of a swinging
+//! sheet stops sooner and within 2× the tolerance of the step rule's iterate.
 //!
 //! **Reused factorizations** (impl. choice; a modified Newton method). Our H is an
 //! approximation anyway (above), so the iterations converge linearly, and late in a substep,
@@ -71,35 +67,25 @@
 //! E (the Armijo test is the same), so the method converges to the same minimizer; it takes
 //! more iterations, each much cheaper. The cap [`SolverConfig::iterations`] counts the
 //! factorized iterations, and the reused ones may add as many again
-//! (`REUSE_ITERATION_FACTOR`). Measured with a temporary probe that solved every substep
-//! of C5, S4 and C2 a second time from the same start with reuse: with the cap of 10 on all
-//! iterations, 1.3–1.8× as many substeps as the plain method's ended at the cap, unconverged;
-//! with the cap on factorized iterations, 0.3–0.6× as many, in 0.73–0.92× the solver's time.
-//! Over the crumples played with seeds 1–150 the whole frame's median falls by a fifth to a
-//! quarter (docs/benchmarks.md, "Reused factorizations"). `SolverConfig::reuse_factor =
-//! false` restores the plain method.
+//! (`REUSE_ITERATION_FACTOR`): capping all iterations at 10 left more substeps unconverged
+//! than the plain method. The crumples' median frame falls by a fifth to a quarter
+//! (docs/decisions.md, "Reused factorizations"). `SolverConfig::reuse_factor = false` restores
+//! the plain method (for the bench report's comparison rows).
 //!
 //! **Pinning** (impl. choice). The line search scales the whole step, so one triangle that
-//! every trial would turn over stops the solve for the entire sheet. Under the hostile stress
-//! stream (`sim-stress --seed 2 --sessions 1 --frames 10000`, frame 6453) that happened to a
-//! triangle already turned 89.5° from the substep's start, after a frame in which repeated
-//! pass-through undos had left the sheet moving at 3.6 m/s: the solve stalled after 5
-//! iterations, with 70 halvings, and the sheet stayed where it stalled — held vertices at their
-//! targets, their free neighbours behind — with a triangle next to a hand stretched to 2.07×
-//! its length (strain 1.065, bound 1.0). So when the Levenberg–Marquardt retries fail too,
-//! the free vertices of the triangles that the shortest damped trial turns over are held
-//! where they are for the rest of the substep. The next iteration solves for the other
-//! vertices, which then follow the hands: the same frame ends at strain 0.699, and the session
-//! passes. A stall whose shortest trial turns nothing over (a failure of the energy test
-//! alone) still ends the substep as before. Frames that never stall are unchanged: the 12 seed
-//! scenes are bit-identical with and without pinning (`scenario_probe` hashes), and none of
-//! them pins a vertex. Regression test: `sim-core/tests/stalled_substeps.rs`. Not a cure for
-//! every stall: in the long stress run (`sim-stress`, seed 4, frame 33 202) the pinned vertex,
-//! held where the predictor had carried it, was a corner of a small triangle whose other corner
-//! a hand held, and that triangle stretched to strain 3.35 (2.23 without pinning, where the
-//! whole solve stops instead). A substep that stalls or pins and leaves the sheet strained is
-//! therefore solved again from rest with the hands held back (`crate::sim`, "A substep
-//! solved again"); the solve reports the stall ([`SubstepReport::stalled`]).
+//! every trial would turn over stops the solve for the entire sheet, and the sheet stays where
+//! it stalled — held vertices at their targets, their free neighbours behind — with the
+//! triangles between them stretched. So when the Levenberg–Marquardt retries fail too, the
+//! free vertices of the triangles that the shortest damped trial turns over are held where
+//! they are for the rest of the substep, and the next iteration solves for the other vertices,
+//! which then follow the hands (docs/decisions.md, "Pinning"). A stall whose shortest trial
+//! turns nothing over (a failure of the energy test alone) still ends the substep. Frames that
+//! never stall are unchanged (no seed scene pins a vertex). Regression test:
+//! `sim-core/tests/stalled_substeps.rs`. Not a cure for every stall: a pinned vertex held
+//! where the predictor carried it can still stretch a small triangle a hand holds by its
+//! other corner, so a substep that stalls or pins and leaves the sheet strained is solved
+//! again from rest with the hands held back (`crate::sim`, "A substep solved again"); the
+//! solve reports the stall ([`SubstepReport::stalled`]).
 
 use crate::collision::{
     CONTACT_SKIN_M, HARD_CONTACT_FACTOR, MAX_PENETRATION_M, Obstacles, STICK_SPEED_M_S,

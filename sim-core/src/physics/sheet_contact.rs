@@ -24,9 +24,9 @@
 //!
 //! with d̂ = [`SHEET_CONTACT_DIST_M`] and k = m ω_c² from the pair's mass (½ Σ |w_i| m_i) —
 //! the obstacles' soft contact stiffness ([`crate::collision`]) without their hard stage: a
-//! layer caught between an obstacle and another layer must yield to the obstacle (measured:
-//! with a ×30 hard stage below d̂/2, a held crumpled sheet was pressed 5 mm into a rising
-//! table, `tests/scenarios.rs`). g ≥ d̂ is the
+//! layer caught between an obstacle and another layer must yield to the obstacle (with a hard
+//! stage a held crumpled sheet was pressed into a rising table; docs/decisions.md, "Sheet–sheet
+//! contact: soft only, stiffened where it crossed"). g ≥ d̂ is the
 //! half-space beyond the pair's separating plane, the usual linearization of a distance
 //! constraint over one time step. It is added to the incremental potential of
 //! [`crate::physics`], so the Newton solver's line search treats it like every other term.
@@ -38,10 +38,8 @@
 //! descent direction). The diagonal blocks alone are a poor model where layers lie on each
 //! other: a motion that carries both layers along leaves the gap unchanged, yet the blocks
 //! charge each vertex k ≈ 400 m/h² for it, and Newton creeps by micrometre steps to its
-//! iteration cap. Measured in the crumple S4 (1 198 awake frames): 557 frames at the cap of 10
-//! iterations with the blocks alone, 212 with the coupling, 5.6 instead of 7.2 iterations per
-//! frame (`sim-core/tests/contact_solve.rs` checks the first 400 frames). The XPBD solver
-//! projects the same pairs as inequality constraints.
+//! iteration cap (the figures: docs/decisions.md, "Contact coupling: 32 pairs";
+//! `sim-core/tests/contact_solve.rs` checks S4's first 400 frames).
 //!
 //! **Which pairs.** Two parts of the sheet that are close *in the pattern* are close in 3D by
 //! construction (a developable sheet is an isometry of its pattern, which never lengthens a
@@ -57,15 +55,13 @@
 //! penalty is finite: pressed hard enough — a fold's stored bending energy, or a hand's hard
 //! constraint on the other side — two layers pass through each other, and the sim's
 //! pass-through guard undoes the frame. Going back to the frame's start does not remove the
-//! cause, so the replay crossed again, frame after frame (measured with the crumple stop at
-//! 0.5 mm: C5 seed 5 undid 436 frames in a row, the same edge–edge pair crossing from 0.66 mm
-//! apart each time; more substeps did not help, the pair was found and simply pushed
-//! through). So an undone frame stiffens the contact where it crossed: every pair whose
-//! vertices all belong to two triangles that crossed gets its k multiplied by
-//! [`BOOST_STEP`] (×4, again on each repeat, up to [`MAX_BOOST`]) for [`BOOST_FRAMES`]
-//! frames (1 s) after the last crossing. The replay then holds the layers apart; measured
-//! with that stop over C5 seeds 1–8, undone frames fell to 0–5 per run and no boost went
-//! past ×16. At most [`MAX_BOOSTS`] boosts are kept (preallocated, the oldest goes); they
+//! cause, and the replay crossed again, frame after frame: the pair was found and simply
+//! pushed through, and more substeps did not help. So an undone frame stiffens the contact
+//! where it crossed: every pair whose vertices all belong to two triangles that crossed gets
+//! its k multiplied by [`BOOST_STEP`] (×4, again on each repeat, up to [`MAX_BOOST`]) for
+//! [`BOOST_FRAMES`] frames (1 s) after the last crossing, and the replay holds the layers
+//! apart (docs/decisions.md, "Sheet–sheet contact: soft only, stiffened where it crossed"). At
+//! most [`MAX_BOOSTS`] boosts are kept (preallocated, the oldest goes); they
 //! are saved with the sheet and kept across a vertex insertion (old vertices keep their
 //! index).
 //!
@@ -80,13 +76,11 @@
 //! by more than the reach along any axis is skipped before anything is measured. Narrow phase:
 //! a cheap lower bound first — the point's distance from the triangle's plane, the distance
 //! between the two edges' lines — then the exact closest features of
-//! [`crate::triangle_distance`] (in C5's second half, a median of 606 edge pairs per search
-//! passed the boxes and 76 of them were within reach). The bounds carry a relative margin, so
-//! the pairs found are the same, in the same order, as without them (all 12 seed scenes'
-//! hashes unchanged); the search takes 0.62× its former time at the smallest reach and 0.84×
-//! at the largest (`cargo bench -p sim-core --bench step -- contact/c5_frame_400/sheet_pairs`,
-//! 97 → 60 µs and 754 → 635 µs; the bounds are forced inline: left to the compiler, the same
-//! code measured 65–77 µs from one build to the next). On a sheet that is nowhere folded over no
+//! [`crate::triangle_distance`], which most pairs that pass the boxes never reach. The bounds
+//! carry a relative margin, so the pairs found are the same, in the same order, as without
+//! them, and they are forced inline, since left to the compiler their speed varied from one
+//! build to the next (figures: docs/benchmarks.md, "Contact queries" and "Query figures moved
+//! from the module docs"). On a sheet that is nowhere folded over no
 //! pair survives, and a pair that never comes within d̂ adds exactly nothing (the solve is
 //! bit-identical to one without contact). Buffers are sized in [`SheetContact::new`]; pairs
 //! beyond their capacity are dropped (counted), never allocated.
@@ -710,14 +704,13 @@ mod tests {
     }
 
     /// Two pieces of paper, one held 3 mm above the other and driven down at 0.5 m/s into it:
-    /// with contact the free lower piece is pushed ahead and the two never cross, in both
-    /// solvers; without, the upper one passes through (so the test can fail).
+    /// with contact the free lower piece is pushed ahead and the two never cross; without, the upper one passes through (so the test can fail).
     #[test]
     fn a_piece_driven_onto_another_pushes_it_ahead() {
         use crate::collision::Obstacles;
         use crate::control::Material;
         use crate::material::PaperMaterial;
-        use crate::physics::{Kinematics, PhysParams, Physics, SolverConfig, SolverKind};
+        use crate::physics::{Kinematics, PhysParams, Physics, SolverConfig};
         use crate::room::RoomConfig;
         use crate::self_proximity::SelfProximity;
         use crate::sheet::pattern::{Pattern, lattice};
@@ -741,7 +734,7 @@ mod tests {
                 .collect(),
         };
         // Returns (crossed or passed through, how far the lower piece went down, m).
-        let run = |kind: SolverKind, contact: bool| -> (bool, f64) {
+        let run = |contact: bool| -> (bool, f64) {
             let mut mesh = PhysMesh::from_pattern(&pattern, 0.75, 0.08).unwrap();
             let nv = mesh.num_vertices();
             // The first piece (held) lies 3 mm over the second (free), slightly turned.
@@ -755,8 +748,6 @@ mod tests {
             let z_lower = |m: &PhysMesh| (n as usize..nv).map(|i| m.pos[i].z).sum::<f64>();
             let z0 = z_lower(&mesh);
             let cfg = SolverConfig {
-                kind,
-                substeps: if kind == SolverKind::Xpbd { 20 } else { 1 },
                 sheet_contact: contact,
                 ..SolverConfig::default()
             };
@@ -791,19 +782,11 @@ mod tests {
                 (z0 - z_lower(&mesh)) / f64::from(n),
             )
         };
-        for kind in [SolverKind::Newton, SolverKind::Xpbd] {
-            let (crossed, pushed_m) = run(kind, true);
-            assert!(!crossed, "{kind:?}: the pieces crossed with contact");
-            // The held piece went down 2.5 cm; the free one was pushed most of that way.
-            assert!(
-                pushed_m > 0.015,
-                "{kind:?}: lower piece pushed {pushed_m} m"
-            );
-            assert!(
-                run(kind, false).0,
-                "{kind:?}: the pieces never crossed without contact"
-            );
-        }
+        let (crossed, pushed_m) = run(true);
+        assert!(!crossed, "the pieces crossed with contact");
+        // The held piece went down 2.5 cm; the free one was pushed most of that way.
+        assert!(pushed_m > 0.015, "lower piece pushed {pushed_m} m");
+        assert!(run(false).0, "the pieces never crossed without contact");
     }
 
     #[test]

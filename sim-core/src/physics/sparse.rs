@@ -44,23 +44,19 @@
 //!    that is, one forward pass through the factor with the p columns of U as right-hand
 //!    sides (blocked), the dense p × p product Wᵀ W and Cholesky factorization of the
 //!    capacitance matrix C (symmetric positive definite whatever U is), and the right-hand
-//!    side's forward and backward passes with the correction between them. The first version
-//!    solved Z = A⁻¹ U whole (forward and backward passes for every column) and formed
-//!    C = I + Uᵀ Z: that backward pass was a quarter of the linear solver's time in C5 and
-//!    S4. Split, the p99 frame of C5 fell from 4.48 to 4.11 ms and of S4 from 3.97 to 3.71 ms
-//!    (per-frame minimum of 3 replays, `REPLAYS=3 cargo run --release -p sim-core --example
-//!    frame_tail -- c5_full_crumple`, same host and hour); the medians did not move. Each u
-//!    has at most 12 non-zeros (four vertices × 3), kept in the factor's order.
+//!    side's forward and backward passes with the correction between them. Solving Z = A⁻¹ U
+//!    whole instead spends a backward pass per column, a quarter of the linear solver's time in
+//!    the crumples; split, their p99 frames are 7–8 % shorter (docs/benchmarks.md, "Woodbury on
+//!    the split factor"). Each u has at most 12 non-zeros (four vertices × 3), kept in the
+//!    factor's order.
 //!
 //! 6. factorize each supernode's diagonal block with faer's dense Cholesky recursing down to
 //!    blocks of [`SUPERNODE_RECURSION_COLS`] columns (faer's default: 64), so the root supernode
 //!    of our crumpled sheets (60–66 columns) and the next largest are factorized as blocks
-//!    updated by matrix products instead of column by column. Measured 2026-11-29 with
-//!    `iter_hist s4_crumple` with the constant set to each value (the same play to within a few
-//!    frames' iterations, 26 singular points either way), two runs each: mean frame 1.384 /
-//!    1.437 ms at 64, 1.347 / 1.371 at 32, 1.338 / 1.341 at 16, 1.345 / 1.347 at 8, 1.369 /
-//!    1.369 at 4. It changes the factor's
-//!    rounding (not its accuracy), so every chaotic crumple runs a slightly different course.
+//!    updated by matrix products instead of column by column: 16 gave S4 the shortest mean
+//!    frame of 64, 32, 16, 8 and 4 (docs/benchmarks.md, "The supernodes' dense Cholesky
+//!    recursing down to 16 columns"). It changes the factor's rounding (not its accuracy), so
+//!    every chaotic crumple runs a slightly different course.
 //!
 //! Each Newton iteration then only zeroes and fills the blocks, scatters them into the CSC
 //! values (rows/columns of kinematic — handle — vertices become identity rows, so the pattern

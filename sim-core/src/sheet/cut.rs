@@ -6,8 +6,9 @@
 //! `000_cb4d91e46ec5927f.txt` T 879–906; digest-crumpling §3.4). A ruling that is an edge is
 //! a hinge: the sheet can bend along exactly that straight line, where a lattice crossed
 //! obliquely can only bend in a zigzag of its own edges. This module makes a straight pattern
-//! line a chain of S_P edges ([`cut_along`]); which line, and when, is the geometry layer's
-//! choice ([`crate::geometry`], "Strip cutting").
+//! line a chain of S_P edges ([`cut_along`]). It is a building block for tearing: the frame
+//! loop does not cut strips, because on our lattice the cuts cost frame time and bought no
+//! accuracy (docs/decisions.md, "Strip cutting (removed from the frame loop)").
 //!
 //! ## The cut
 //!
@@ -33,14 +34,10 @@
 //! lies inside the triangle's circumcircle is swapped for the quad's other diagonal, if the
 //! quad is strictly convex, the flip raises its smallest angle, and the edge is not on the cut
 //! line, carries no rest angle or damage and is bent by less than
-//! [`FLIP_MAX_DIHEDRAL_RAD`]. Measured (`sim-core/examples/insert_probe.rs` and
-//! `singular_probe.rs` with `CUT=1`, `sim-stress --cut-strips`): without them, the splits'
-//! small triangles (down to 1/15 of a lattice triangle) made the double bend C4 fold sharply
-//! along the cut line (5–9 singular points over seeds 2–6, target 1–4; with them 2 in every
-//! seed), and a hostile stress session (seed 2) turned a 15.6° triangle of a cut over in one
-//! frame next to a vertex a hand had just grabbed (with them it passes). A minimum angle of
-//! 20° instead fixed that session but left the full crumple's seed 3 with 7 singular points
-//! and strained seed 4 by 0.126.
+//! [`FLIP_MAX_DIHEDRAL_RAD`]. Without them the splits' small triangles (down to 1/15 of a
+//! lattice triangle) folded sharply along the cut line and could be turned over next to a
+//! freshly grabbed vertex; a larger minimum angle for splits instead was worse elsewhere
+//! (same section of docs/decisions.md).
 //!
 //! ## State transfer
 //!

@@ -4,11 +4,11 @@
 //! §1.2 "Invariant"), and a singular vertex is placed at its drawn pattern position s̄ and never
 //! moved in 2D (P 63–66, 295–297, 659–668; T 600, 933). They get this by regenerating S_P from
 //! S_G every frame (§2.2). Our S_P keeps its connectivity between singular points
-//! ([`crate::geometry`], "Simplifications"), so a d-cone apex used to be the nearest S_P vertex
-//! moved towards s̄ — in full only where the triangles around it stay well shaped. This module
-//! is the remeshing step that makes the apex exact everywhere: it **inserts a new S_P vertex at
-//! s̄** and transfers the sheet's state to the refined mesh, the seeds' S_G → S_P enrichment
-//! (§2.2) applied where S_G changed.
+//! ([`crate::geometry`], "Implementation decisions"), so a d-cone apex used to be the nearest
+//! S_P vertex moved towards s̄ — in full only where the triangles around it stay well shaped.
+//! This module is the remeshing step that makes the apex exact everywhere: it **inserts a new
+//! S_P vertex at s̄** and transfers the sheet's state to the refined mesh, the seeds' S_G → S_P
+//! enrichment (§2.2) applied where S_G changed.
 //!
 //! ## The refinement
 //!
@@ -32,23 +32,17 @@
 //!    new triangle lies on one side of it and starts with its exact rest shape. Where even
 //!    that starts beyond the limit (the foot next to a vertex, a fold along another edge),
 //!    [`insert_vertex_near`] tries its nudged points and takes the first within the limit,
-//!    else the least strained. Measured over the crumples C5 and S4 with seeds 1–150
-//!    (`cargo run --release -p sim-core --example iter_hist -- s4_crumple@SEED`, 300 runs;
-//!    `INS_STRAIN=inf` plays the insertions at s̄): at s̄, such insertions started strained by
-//!    up to 0.78, and where the pass-through guard undid the frame that followed, the sheet
-//!    kept that strain (sim.rs, "An undone frame relaxed"); 48 runs passed the 0.1 health limit
-//!    somewhere and 19 passed 0.2 (largest 0.58); 787 frames were undone. Now 21 runs pass 0.1,
-//!    each at the squeeze's onset, unrelated to insertions (0.10–0.125), none passes 0.2, and
-//!    461 frames are undone. The price is the law of s̄ (geometry.rs, digest-crumpling §3.5):
-//!    where the foot is taken, the offset across the edge (normal with standard deviation
-//!    σ/√2, 0.7 mm by default; the split is at most [`EDGE_SPLIT_BARY`] of t's height away, a
-//!    third of it where the triangle split was refused) is dropped and only the position along
-//!    the edge is kept. In the seeds the problem does not arise, because S_P is rebuilt around
-//!    s̄ every frame (§2.2). Of the 12 seed scenes only S4 plays differently for it. (These are
-//!    the plain Newton solver's courses. With it reusing factorizations the courses changed,
-//!    and where every candidate starts strained the least strained one may be a sliver whose
-//!    triangle is strained far beyond its edges: C5 seed 40 starts one at 0.71, its edges at
-//!    7 %; docs/benchmarks.md, "Reused factorizations".)
+//!    else the least strained. Insertions at s̄ whatever their strain started strained by up to
+//!    0.78, which the frame's own solve had to relax, or kept where the pass-through guard
+//!    undid that frame; with the limit, far fewer crumples pass the health limit and fewer
+//!    frames are undone (docs/decisions.md, "Insertion next to s̄"). The price is the law of s̄
+//!    (geometry.rs, digest-crumpling §3.5): where the foot is taken, the offset across the edge
+//!    (normal with standard deviation σ/√2, 0.7 mm by default; the split is at most
+//!    [`EDGE_SPLIT_BARY`] of t's height away, a third of it where the triangle split was
+//!    refused) is dropped and only the position along the edge is kept. In the seeds the
+//!    problem does not arise, because S_P is rebuilt around s̄ every frame (§2.2). Where every
+//!    candidate starts strained, the least strained one may be a sliver whose triangle is
+//!    strained beyond its edges (a known approximation, same section).
 //! 3. **Lawson flips** restore the Delaunay property around the new vertex in the pattern
 //!    (the seeds triangulate flat regions by Delaunay, T 738): an edge opposite the new vertex
 //!    whose far vertex lies inside the circumcircle of the new triangle is flipped, and the two

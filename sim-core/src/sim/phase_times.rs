@@ -24,9 +24,6 @@ pub struct PhaseTimes {
     pub geometry_ns: u64,
     /// Contacts, length-error metrics and the sound analysis.
     pub analysis_ns: u64,
-    /// The part of `geometry_ns` spent regenerating S_P from S_G (0 unless
-    /// [`crate::geometry::GeometryConfig::regenerate_sp`] is on).
-    pub regeneration_ns: u64,
 }
 
 /// Lap timer over the phases of one frame; reads no clock while off.

@@ -245,13 +245,12 @@ impl Sim {
     /// The contact depth limit (collision.rs "Depth limit") after a substep, without turning
     /// a facet over: putting a deep vertex back at the limit depth moves it along the plane
     /// normal, which can turn a triangle standing edge-on against the plane past 90° from its
-    /// orientation at the end of the previous frame (seen in a stress storm, after a Newton
-    /// step cut back 42 times); the vertices of a triangle the limit would turn over keep
-    /// their simulated positions, a little deeper. So do those of a triangle the limit would
-    /// strain beyond [`HOLD_BACK_STRAIN`], and more than the solve left it: a vertex the
-    /// solve left centimetres deep, put back at the limit, stretches its edges to the
-    /// neighbours that stayed (the long hostile run's session 19, frame 35 371, on 2026-12-01:
-    /// strain 0.443 after the solve, 1.201 after the limit).
+    /// orientation at the end of the previous frame; the vertices of a triangle the limit
+    /// would turn over keep their simulated positions, a little deeper. So do those of a
+    /// triangle the limit would strain beyond [`HOLD_BACK_STRAIN`], and more than the solve
+    /// left it: a vertex the solve left centimetres deep, put back at the limit, stretches its
+    /// edges to the neighbours that stayed (docs/decisions.md, "Smaller rules and the runs that
+    /// found them").
     pub(super) fn limit_penetration(&mut self) {
         let sp = &mut self.sheet.sp;
         self.pre_limit_pos.clone_from(&sp.pos);

@@ -8,7 +8,7 @@
 //! (each triangle rasterizes its pattern bounding box; linear in the number of grid points)
 //! and its mean curvature is the barycentric interpolation of the vertex values H_v.
 //! The location depends only on S_P's pattern and triangles, which change only at mesh events
-//! (a vertex insertion, a flip, a cut, a coarsening, a pattern vertex moved under a hand), so
+//! (a vertex insertion, a flip, a pattern vertex moved under a hand), so
 //! it is kept with a copy of both and redone only when either differs: the same grid points in
 //! the same triangles with the same weights, at a fraction of the cost in the frames between
 //! (the rasterization was 1.6 % of a C5 frame, `perf`).

@@ -1,5 +1,6 @@
 //! Hostile edits of a saved sheet's JSON, shared by `tests/save_restore.rs`
-//! (`random_json_mutations_never_panic`) and `examples/fuzz_restore.rs` (the same, longer).
+//! (`random_json_mutations_never_panic`) and the lab's `fuzz-restore` (the same, longer:
+//! `cargo run --release -p papier-lab -- fuzz-restore`, which includes this file).
 
 use rand::RngExt;
 use serde_json::Value;

@@ -11,7 +11,7 @@ use sim_core::sim::{FrameOutput, SavedSheet, Sim, SimConfig};
 use sim_core::stress::StressFixture;
 
 /// Restores a sheet saved as JSON: a regression fixture of `tests/fixtures/`, written by
-/// `cargo run --release -p sim-core --example stress_fixture -- SEED FRAME OUT.json`, in the
+/// `cargo run --release -p papier-lab -- stress-fixture SEED FRAME OUT.json`, in the
 /// room it was saved in. A bare `SavedSheet` (the fixtures written before the room was kept)
 /// restores in the default room.
 pub fn restore_fixture(json: &str) -> Sim {

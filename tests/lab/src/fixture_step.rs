@@ -1,0 +1,52 @@
+//! What does a saved sheet do in its next frames? Restores a saved sheet (JSON, as
+//! `stress-fixture` writes it, in its room; a bare saved sheet in the default room) and steps it
+//! a few frames, printing each frame's largest strain, halvings, iterations, pinned, held-back
+//! and split substeps and flipped triangles.
+//!
+//! `cargo run --release -p papier-lab -- fixture-step STATE.json [FRAMES]` (default 3 frames);
+//! `NOGEOM=1` steps with the geometry layer off, `STATS=1` prints each frame's whole stats.
+
+use anyhow::Context;
+use sim_core::sim::{FrameOutput, SavedSheet, SimConfig};
+use sim_core::stress::StressFixture;
+
+use crate::args::{at_most, bad, nth};
+
+pub const USAGE: &str = "STATE.json [FRAMES]";
+
+pub fn run(args: &[String]) -> anyhow::Result<()> {
+    at_most(args, 2)?;
+    let path = args.first().ok_or_else(|| bad("STATE.json is missing"))?;
+    let frames: u32 = nth(args, 1, "FRAMES")?.unwrap_or(3);
+    let json = std::fs::read_to_string(path).with_context(|| format!("reading {path}"))?;
+    let fixture = match serde_json::from_str::<StressFixture>(&json) {
+        Ok(f) => f,
+        Err(_) => StressFixture {
+            room: SimConfig::default().room,
+            sheet: serde_json::from_str::<SavedSheet>(&json)
+                .with_context(|| format!("{path} is neither a fixture nor a saved sheet"))?,
+        },
+    };
+    let mut cfg = SimConfig::default();
+    cfg.geometry.enabled = std::env::var("NOGEOM").is_err();
+    let mut sim = fixture.restore(cfg).context("restoring the sheet")?;
+    let mut out = FrameOutput::default();
+    for k in 1..=frames {
+        sim.step(&mut out);
+        let s = &out.stats;
+        if std::env::var("STATS").is_ok() {
+            println!("{s:?}");
+        }
+        println!(
+            "+{k}: strain {:.3}, halvings {}, iterations {}, pinned {}, held back {}, split {}, flipped {}",
+            sim.metrics().max_strain,
+            s.halvings,
+            s.iterations,
+            s.pinned_substeps,
+            s.held_back_substeps,
+            s.split_substeps,
+            s.num_flipped
+        );
+    }
+    Ok(())
+}
