@@ -74,6 +74,7 @@ pub mod db_picker;
 pub mod grab_pad;
 pub mod layout_probe;
 pub mod meters_panel;
+pub mod palette;
 pub mod param_widgets;
 pub mod projection;
 pub mod region;

@@ -17,6 +17,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::room::RoomConfig as Room;
 
+/// Default number of simulation frames per second of simulated time.
+pub const DEFAULT_FRAME_RATE_HZ: f64 = 200.0;
+
 pub use crate::room::RoomConfig;
 
 /// Standard sheet sizes, portrait orientation (width along x, length along y).

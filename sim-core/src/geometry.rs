@@ -27,7 +27,7 @@
 //! 3. **Compression analysis** (§3.2): the stretch tensor of every flat triangle
 //!    ([`stretch`]); the most compressed one, c_t = 1 − λ_min > ε_c, starts a pass.
 //! 4. **Imaginary-ruling propagation** (§3.3, Appendix A): from it along ±v⊥ in the pattern
-//!    ([`walk`]) through flat triangles of its region to a border: the sheet boundary, a crease,
+//!    ([`crate::sheet::walk`]) through flat triangles of its region to a border: the sheet boundary, a crease,
 //!    or a curved region, which is extended if its rulings are parallel to v⊥ (within
 //!    [`CONFLICT_RAD`]) and crossed to its first ruling bent beyond θ_sing if they conflict
 //!    (P 693–704). Borders {∂S, ∂S} make a cylinder (Fig. 7), {∂S, singular} a cone (Fig. 8),
@@ -108,7 +108,7 @@
 //! | step | module |
 //! |---|---|
 //! | 1–2 shape, classification, flips | `shape`, `flip` |
-//! | 3–4 compression, propagation, strips | `compression` ([`stretch`], [`walk`]) |
+//! | 3–4 compression, propagation, strips | `compression` ([`stretch`], [`crate::sheet::walk`]) |
 //! | 5 singular vertices, 6 fibre damage | `singular` ([`placement`]), `nondevelopable` |
 //! | 7 partition, rulings | `partition`, `rulings` |
 //! | 8 cones, realignment, resampling | `region_cones` ([`cone`]), [`realign`] |
@@ -141,18 +141,18 @@ mod saved;
 mod shape;
 mod singular;
 pub mod stretch;
-pub mod walk;
 
 use rand::SeedableRng;
 
 use crate::collision::{CONTACT_SKIN_M, Obstacles};
 use crate::material::PaperMaterial;
 use crate::math::{V2, V3, sym2_eigen};
-use crate::physics::bending::dihedral;
 use crate::self_proximity::SelfProximity;
 use crate::sheet::geometric::{GVertex, GeomStructure, VKind};
+use crate::sheet::measure::dihedral;
 use crate::sheet::physical::PhysMesh;
 use crate::sheet::topology::NONE;
+use crate::sheet::walk;
 use cone::{RulingPlane, apex_in_pattern, gap_apex, segment};
 use isometry::{Isometry, IsometryConfig, IsometryReport};
 

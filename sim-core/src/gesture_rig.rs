@@ -95,11 +95,11 @@ pub use saved::SavedHandDef;
 use serde::{Deserialize, Serialize};
 
 use crate::collision::{Obstacles, PlaneObstacle};
+use crate::control::DEFAULT_FRAME_RATE_HZ;
 use crate::control::{GestureParam, GrabSlot};
 use crate::handles::{HandDef, HandState, HandleDef, MAX_HAND_VERTICES, Pose};
 use crate::math::{Rot, V2, V3};
 use crate::sheet::Sheet;
-use crate::sim::DEFAULT_FRAME_RATE_HZ;
 
 /// Slot hands: back, front, left, right, and the four corners.
 pub const NUM_SLOT_HANDS: usize = 8;

@@ -24,7 +24,7 @@
 //! zero).
 
 use crate::math::{V3, sym2_eigen};
-use crate::physics::membrane::green_strain;
+use crate::sheet::measure::green_strain;
 use crate::sheet::physical::PhysMesh;
 
 /// Compression above which an edge counts in n_comp (1 %, P 1437).

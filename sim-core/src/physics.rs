@@ -307,14 +307,14 @@ impl SubstepFrame {
             for &i in tri {
                 self.normal[i as usize] += n;
             }
-            self.strain[t] = membrane::green_strain(x, &mesh.tri_rest[t]).0;
+            self.strain[t] = crate::sheet::measure::green_strain(x, &mesh.tri_rest[t]).0;
         }
         for n in &mut self.normal {
             let l = n.norm();
             *n = if l > 0.0 { *n / l } else { V3::z() };
         }
         for (k, h) in mesh.hinges.iter().enumerate() {
-            self.theta[k] = bending::dihedral(&h.v.map(|i| mesh.pos[i as usize]));
+            self.theta[k] = crate::sheet::measure::dihedral(&h.v.map(|i| mesh.pos[i as usize]));
         }
         for (i, c) in self.contact.iter_mut().enumerate() {
             *c = LaggedContact {

@@ -13,6 +13,8 @@
 //! - [`pattern`]: the initial lattice triangulation of the flat sheet;
 //! - [`topology`]: half-edge topology as plain `u32` index data;
 //! - [`physical`]: S_P (positions, velocities, masses, rest data, rest angles, damage);
+//! - [`measure`]: a triangle's Green strain and a hinge's dihedral angle;
+//! - [`walk`]: straight pattern lines traced across S_P, triangle by triangle;
 //! - [`geometric`]: S_G (the data model; its operations are [`crate::geometry`]);
 //! - [`refine`]: vertex insertion into S_P with state transfer (a singular vertex at its exact
 //!   drawn position).
@@ -21,10 +23,12 @@
 
 pub mod cut;
 pub mod geometric;
+pub mod measure;
 pub mod pattern;
 pub mod physical;
 pub mod refine;
 pub mod topology;
+pub mod walk;
 
 use crate::control::SheetSize;
 use crate::math::V2;

@@ -145,8 +145,7 @@ use crate::sheet::{MeshConfig, Sheet};
 use crate::sound_analysis::{AnalysisConfig, AnalysisInput, AnalysisStats, SoundAnalysis};
 use crate::sound_input::SoundFrame;
 
-/// Default number of simulation frames per second of simulated time.
-pub const DEFAULT_FRAME_RATE_HZ: f64 = 200.0;
+pub use crate::control::DEFAULT_FRAME_RATE_HZ;
 
 /// Largest vertex speed of a sheet allowed to fall asleep, m/s.
 pub const SLEEP_SPEED_M_S: f64 = 2e-3;

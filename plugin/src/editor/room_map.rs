@@ -8,9 +8,9 @@
 
 use egui::{Align2, Color32, FontId, Painter, Pos2, Rect, Stroke, pos2};
 
+use super::palette::{LISTENER_COLOUR, TABLE_COLOUR};
 use super::region::RegionKind;
 use super::room_scene::{HEAD_RADIUS_M, RoomScene};
-use super::sheet_view::{LISTENER_COLOUR, TABLE_COLOUR};
 use super::vec3::V3;
 
 /// Side of the map, logical pixels.

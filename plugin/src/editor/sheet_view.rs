@@ -19,6 +19,9 @@ use egui::{Align2, Color32, FontId, Mesh, Pos2, Rect, Response, Sense, Shape, St
 use sim_core::mesh_snapshot::VertexTag;
 use sim_core::room::RoomConfig;
 
+use super::palette::{
+    BACKGROUND, FLOOR_COLOUR, LISTENER_COLOUR, OUTLINE_COLOUR, TABLE_COLOUR, WALL_COLOUR,
+};
 use super::projection::{OrbitCamera, Projector};
 use super::region::{
     HANDLE_DOT_COLOUR, RegionClassifier, RegionKind, SINGULAR_DOT_COLOUR, kinds_from_partition,
@@ -28,19 +31,6 @@ use super::room_scene::{HEAD_RADIUS_M, RoomScene};
 use super::shading::{face_normal, facing, shade};
 use super::vec3::{V3, add, scale};
 use crate::engine::{ViewFrame, ViewShared};
-
-/// Background of the view.
-pub const BACKGROUND: Color32 = Color32::from_rgb(30, 34, 42);
-/// Table top colour (a wood tone, far from the paper's hues).
-pub const TABLE_COLOUR: Color32 = Color32::from_rgb(125, 80, 50);
-/// Wall colour.
-pub const WALL_COLOUR: Color32 = Color32::from_rgba_premultiplied(64, 78, 96, 200);
-/// Floor grid colour.
-pub const FLOOR_COLOUR: Color32 = Color32::from_rgb(58, 64, 76);
-/// Listener marker colour.
-pub const LISTENER_COLOUR: Color32 = Color32::from_rgb(110, 180, 255);
-/// Sheet outline colour.
-pub const OUTLINE_COLOUR: Color32 = Color32::from_rgba_premultiplied(40, 38, 34, 160);
 
 /// The view's state: camera, a copy of the newest frame, and scratch storage.
 #[derive(Debug)]

@@ -42,21 +42,6 @@
 
 use crate::math::{V3, wrap_angle};
 
-/// Signed dihedral angle of a hinge, radians.
-#[inline]
-pub fn dihedral(x: &[V3; 4]) -> f64 {
-    let e = x[1] - x[0];
-    let na = e.cross(&(x[2] - x[0]));
-    let nb = (x[3] - x[0]).cross(&e);
-    let en = e.norm();
-    if en <= 0.0 {
-        return 0.0;
-    }
-    let s = na.cross(&nb).dot(&e) / en;
-    let c = na.dot(&nb);
-    s.atan2(c)
-}
-
 /// Signed dihedral angle and its gradient. Returns `None` for a degenerate hinge (zero-length
 /// edge or zero-area face), whose bending force is then skipped.
 #[inline]
@@ -116,6 +101,7 @@ pub fn dtheta_coeffs(theta: f64, rest: f64, theta_prev: f64, k_e: f64, damp: f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sheet::measure::dihedral;
 
     fn hinge(fold: f64) -> [V3; 4] {
         // Edge along x; face A wing at +y, face B wing folded by `fold` about the x axis.

@@ -36,6 +36,7 @@
 //! search of the Newton solver. Its Hessian is Gauss–Newton (`W''(J) ∇J∇Jᵀ`).
 
 use crate::math::{M2, M3, V2, V3, sym2_clamp_psd};
+use crate::sheet::measure::green_strain;
 use crate::sheet::physical::TriRest;
 
 /// Area ratio below which the collapse barrier acts.
@@ -87,22 +88,6 @@ pub struct MembraneParams {
     pub lambda_n_m: f64,
     /// Lamé μ, N/m.
     pub mu_n_m: f64,
-}
-
-/// Green strain of a triangle at positions `x`.
-#[inline]
-pub fn green_strain(x: [V3; 3], rest: &TriRest) -> (M2, [V3; 2]) {
-    let d1 = x[1] - x[0];
-    let d2 = x[2] - x[0];
-    let b = &rest.dm_inv;
-    // F = [d1 d2] · B  (3×2), stored as its two columns.
-    let f0 = d1 * b[(0, 0)] + d2 * b[(1, 0)];
-    let f1 = d1 * b[(0, 1)] + d2 * b[(1, 1)];
-    let c00 = f0.dot(&f0);
-    let c01 = f0.dot(&f1);
-    let c11 = f1.dot(&f1);
-    let g = M2::new(0.5 * (c00 - 1.0), 0.5 * c01, 0.5 * c01, 0.5 * (c11 - 1.0));
-    (g, [f0, f1])
 }
 
 /// StVK energy density (per pattern area) of a strain, J/m².

@@ -565,7 +565,7 @@ impl NewtonSolver {
             let ei = hg.edge as usize;
             let ke =
                 bending::hinge_stiffness(ctx.params.bending_n_m, hg.weight, mesh.edge_damage[ei]);
-            let theta = bending::dihedral(&xs);
+            let theta = crate::sheet::measure::dihedral(&xs);
             theta_out[k] = theta;
             e += bending::energy(
                 theta,

@@ -14,7 +14,7 @@
 //!
 //! The caller gives the S_P edges the line crosses, in order along the line, each with the
 //! crossing's parameter along the edge (the crossings of the propagation walk,
-//! [`crate::geometry::walk`]). Each crossing becomes a vertex of the chain:
+//! [`super::walk`]). Each crossing becomes a vertex of the chain:
 //!
 //! - within [`SNAP_FRAC`] of an edge end, that end (no sliver is made);
 //! - otherwise a new vertex splitting the edge there: its one or two triangles (u, w, o) and
@@ -56,7 +56,7 @@ use super::refine::{
     FLIP_MAX_DIHEDRAL_RAD, ccw_min_angle, in_circle, locate, min_angle, with_directed_edge,
 };
 use crate::math::V2;
-use crate::physics::bending::dihedral;
+use crate::sheet::measure::dihedral;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::physical::{MeshError, PhysMesh};
 
@@ -352,7 +352,7 @@ pub fn line_crossings(sp: &PhysMesh, o: V2, d: V2) -> Option<Vec<EdgeCrossing>> 
     let t0 = locate(&sp.pattern, &sp.triangles, o)?.0 as u32;
     let mut side = [Vec::new(), Vec::new()];
     for (k, dir) in [-d, d].into_iter().enumerate() {
-        crate::geometry::walk::walk(sp, t0, o, dir, 4 * sp.num_triangles(), |c| {
+        super::walk::walk(sp, t0, o, dir, 4 * sp.num_triangles(), |c| {
             let h = sp.topo.half_edges[c.half_edge as usize];
             side[k].push(EdgeCrossing {
                 edge: [h.origin, sp.topo.dest(c.half_edge)],

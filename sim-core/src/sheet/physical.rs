@@ -17,7 +17,7 @@
 //! not a steady-state step).
 
 use crate::math::{M2, V2, V3, barycentric2, sym2_eigen};
-use crate::physics::membrane::green_strain;
+use crate::sheet::measure::green_strain;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::topology::{NONE, Topology, TopologyError};
 

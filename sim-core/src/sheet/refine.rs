@@ -88,7 +88,7 @@
 //! steady-state step.
 
 use crate::math::{V2, V3, barycentric2};
-use crate::physics::bending::dihedral;
+use crate::sheet::measure::dihedral;
 use crate::sheet::pattern::{Pattern, signed_area};
 use crate::sheet::physical::{MeshError, PhysMesh};
 use crate::sheet::topology::{Edge, NONE};
