@@ -23,7 +23,8 @@
 //! Inputs are described by [`control::Command`]; scripted inputs (automation lanes and grabs)
 //! by [`script::Script`], played by [`script_runner::ScriptRunner`]; the seed scenarios are in
 //! [`scenario`] (played and summarized by [`scenario_run`]). [`stress`] drives the sim with
-//! hostile random commands (tests and the `sim-stress` binary); `benches/step.rs` and
+//! hostile random commands (tests, and the long run `cargo run --release -p papier-lab --
+//! stress`); `benches/step.rs` and
 //! `cargo xtask bench-report` measure it.
 //!
 //! Entry point: [`sim::Sim`] — `Sim::new(SimConfig)`, `apply(Command)`, `step(&mut FrameOutput)`,

@@ -28,11 +28,11 @@
 //! contradiction can still stretch a triangle next to a hand far beyond anything paper survives
 //! (paper tears at a few %); [`MAX_STRAIN`] = 1 (a triangle never stretched to twice its
 //! length or squeezed to nothing) is the bound the physics must never exceed under this stream
-//! (the worst seen in 10⁶ frames is reported by `sim-stress`). The library scenarios stay
+//! (the worst seen in 10⁶ frames is reported by the long run). The library scenarios stay
 //! far below (see the benchmark report).
 //!
-//! Used by the stress test (`tests/stress.rs`, 10⁵ frames) and the `sim-stress` binary
-//! (10⁶ frames).
+//! Used by the stress test (`tests/stress.rs`, 10⁵ frames) and the long run
+//! (`cargo run --release -p papier-lab -- stress`, 10⁶ frames).
 
 use rand::{RngExt, SeedableRng};
 
@@ -355,7 +355,7 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
 }
 
 /// A sheet saved from a stress session with the room the session had put it in: a regression
-/// fixture (`tests/fixtures/`, written by the `stress_fixture` example).
+/// fixture (`tests/fixtures/`, written by `cargo run --release -p papier-lab -- stress-fixture`).
 ///
 /// [`Sim::restore`] takes the room from the configuration it is given, and the stream's `Room`
 /// commands move the table, the wall and the hands' home height; a sheet restored into the

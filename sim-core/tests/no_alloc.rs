@@ -6,8 +6,7 @@
 //! counted, and every other step is. A sheet built on one thread and stepped on another (the
 //! plugin's worker) allocates once on the new thread unless `sim_core::warm_up_thread` ran
 //! there first. The stall handling allocates nothing either: a solve that pins vertices, and a
-//! substep solved again from rest with the hands held back; nor, with strip cutting on, do the
-//! frames between its cuts and coarsening's collapses (both announced mesh changes).
+//! substep solved again from rest with the hands held back, or solved as shorter ones.
 
 mod common;
 
