@@ -1,5 +1,5 @@
 //! The standalone Papier application (nice-plug's standalone wrapper: JACK or ALSA audio and
-//! MIDI, the same editor). Built with `--features standalone`.
+//! MIDI, the same editor), built with the plugin by `cargo xtask bundle papier --release`.
 
 use nice_plug::prelude::*;
 use papier::Papier;

@@ -55,7 +55,7 @@ pub fn vst3_bundle() -> PathBuf {
 pub fn papier_render() -> PathBuf {
     must_exist(
         target_dir().join("release").join("papier-render"),
-        "cargo build --release -p papier --bin papier-render",
+        "cargo xtask bundle papier --release",
     )
 }
 
@@ -63,7 +63,7 @@ pub fn papier_render() -> PathBuf {
 pub fn standalone() -> PathBuf {
     must_exist(
         target_dir().join("release").join("papier"),
-        "cargo build --release -p papier --features standalone --bin papier",
+        "cargo xtask bundle papier --release",
     )
 }
 

@@ -1,7 +1,7 @@
 //! The README's two commands, and running the workspace's tools through cargo.
 //!
-//! - `cargo xtask demo`: builds the standalone application (when the ALSA/JACK headers are there
-//!   or can be installed), the `Papier.clap` and `Papier.vst3` bundles and `papier-render`, then
+//! - `cargo xtask demo`: builds the `Papier.clap` and `Papier.vst3` bundles, the standalone
+//!   application and `papier-render` (the ALSA/JACK headers installed first if missing), then
 //!   renders the demo scene (`plugin/scenes/demo.toml`) to `out/demo.wav` with the embedded
 //!   default sound database, and prints where everything is and how to install it.
 //! - `cargo xtask test`: installs what the tests need (Debian packages, the Python environment
@@ -10,11 +10,11 @@
 //! - [`cargo_run`]: `cargo xtask sounddb` and `cargo xtask bench-report` run the `sounddb` and
 //!   `papier-lab` binaries through cargo, so xtask itself links neither.
 //!
-//! The standalone is built before the bundles on purpose: building the plugin crate with the
-//! `standalone` feature also relinks `libpapier.so`, and the bundle step must relink it without
-//! that feature so `Papier.clap`/`Papier.vst3` do not depend on ALSA.
+//! The plugin crate has one feature set (its standalone wrapper always on), so one cargo
+//! invocation — the bundle step, which builds the whole `papier` package — compiles the plugin
+//! code once for the bundles, the standalone and `papier-render`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 use anyhow::{Context, bail};
@@ -24,12 +24,18 @@ use crate::system;
 /// Runs `cargo ARGS` (the cargo running xtask, else the one on the path); an error if it fails.
 pub fn cargo(args: &[&str]) -> anyhow::Result<()> {
     eprintln!("xtask: cargo {}", args.join(" "));
+    let started = std::time::Instant::now();
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let ok = Command::new(cargo)
         .args(args)
         .status()
         .with_context(|| format!("run cargo {}", args.join(" ")))?
         .success();
+    eprintln!(
+        "xtask: cargo {} took {:.0} s",
+        args.first().copied().unwrap_or(""),
+        started.elapsed().as_secs_f64()
+    );
     if !ok {
         bail!("cargo {} failed", args.join(" "));
     }
@@ -54,49 +60,22 @@ fn target_dir() -> PathBuf {
     }
 }
 
-/// Builds the standalone app if possible; returns whether it was built.
-fn build_standalone(target: &Path) -> bool {
-    match system::ensure_packages(system::STANDALONE_PACKAGES) {
-        Ok(()) => match cargo(&[
-            "build",
-            "--release",
-            "-p",
-            "papier",
-            "--features",
-            "standalone",
-            "--bin",
-            "papier",
-        ]) {
-            Ok(()) => true,
-            Err(e) => {
-                eprintln!("xtask: the standalone application did not build: {e:#}");
-                false
-            }
-        },
-        Err(e) => {
-            eprintln!("xtask: skipping the standalone application: {e:#}");
-            // A stale binary would otherwise be bundled as if it were fresh.
-            let _ = std::fs::remove_file(target.join("release").join("papier"));
-            false
-        }
-    }
-}
-
+/// Builds the `papier` package once (library, standalone, `papier-render`) and bundles the
+/// plugin and the standalone into `target/bundled/`.
 fn bundle() -> anyhow::Result<()> {
+    // The standalone's audio backends need the ALSA/JACK headers to build.
+    system::ensure_packages(system::STANDALONE_PACKAGES)?;
     eprintln!("xtask: cargo xtask bundle papier --release");
+    let started = std::time::Instant::now();
     nice_plug_xtask::main_with_args(
         "cargo xtask",
         ["bundle", "papier", "--release"].map(String::from),
     )?;
-    // The bundle step builds the package's binaries too; make sure papier-render is there.
-    cargo(&[
-        "build",
-        "--release",
-        "-p",
-        "papier",
-        "--bin",
-        "papier-render",
-    ])
+    eprintln!(
+        "xtask: the bundle step took {:.0} s",
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
 }
 
 /// The main job.
@@ -106,7 +85,6 @@ pub fn demo(args: &[String]) -> anyhow::Result<()> {
     }
     nice_plug_xtask::chdir_workspace_root()?;
     let target = target_dir();
-    let standalone = build_standalone(&target);
     bundle()?;
 
     std::fs::create_dir_all("out")?;
@@ -141,9 +119,7 @@ pub fn demo(args: &[String]) -> anyhow::Result<()> {
     );
     println!("  CLAP plugin:  {}", bundled.join("Papier.clap").display());
     println!("  VST3 plugin:  {}", bundled.join("Papier.vst3").display());
-    if standalone {
-        println!("  standalone:   {}", bundled.join("Papier").display());
-    }
+    println!("  standalone:   {}", bundled.join("Papier").display());
     println!(
         "  renderer:     {}",
         std::fs::canonicalize(&render)?.display()
@@ -167,12 +143,8 @@ pub fn test(args: &[String]) -> anyhow::Result<()> {
     }
     nice_plug_xtask::chdir_workspace_root()?;
     let target = target_dir();
-    system::ensure_packages(system::STANDALONE_PACKAGES)?;
     system::ensure_packages(system::GUI_TEST_PACKAGES)?;
     system::ensure_venv(&std::env::current_dir()?.join(&target))?;
-    if !build_standalone(&target) {
-        bail!("the standalone application is needed by the tests and did not build");
-    }
     bundle()?;
     cargo(&["fmt", "--all", "--", "--check"])?;
     cargo(&[
