@@ -41,7 +41,9 @@
 //! - **crumple** c ∈ \[0, 1\]: 8 boundary points (corners, edge midpoints) become point handles
 //!   moving to `centre + (1 − c·k)(p − centre)`, k = [`CRUMPLE_CAP`], with a seeded jitter, a
 //!   lift of ≈ c·0.1·L and a tilt of c·[`CRUMPLE_TILT_RAD`]; they take precedence over slot
-//!   handles and go when c is back at 0. Point handles, because rigid patches of neighbouring
+//!   handles (a slot hand with a handle vertex on or next to theirs stands aside: two rigid
+//!   grips one edge apart tear the paper between them as they move) and go when c is back
+//!   at 0. Point handles, because rigid patches of neighbouring
 //!   hands would collide as the ring shrinks ("Hands, grip and obstacles").
 //!
 //! Gesture values follow slew-rate limits derived from the travel clamp (a jump becomes a sweep:
@@ -137,6 +139,18 @@ pub const GRIP_FORCE_MIN_N: f64 = 1.0;
 pub const GRIP_FORCE_RANGE_N: f64 = 4.0;
 /// How far a hand gives way per newton of excess pull, m/N (a hand stiffness of 100 N/m).
 pub const HAND_COMPLIANCE_M_N: f64 = 0.01;
+/// Strain (|λ − 1| of a held vertex's triangles) beyond which a hand gives way as if pulled
+/// beyond its grip, by the excess times the mesh's edge length per frame: paper does not
+/// stretch by more than a few percent, the fingers slide.
+pub const STRAIN_GIVE: f64 = 0.04;
+/// Smallest give that moves a hand, metres (below it the hand holds: it is at its balance).
+pub const SLIP_MIN_M: f64 = 2e-5;
+/// Strain of a held neighbour vertex's triangles beyond which it slides out of the grip (the
+/// hand keeps its handle vertex).
+pub const STRAIN_RELEASE: f64 = 0.08;
+/// A hand's slip that goes on the way the last one went gives this much more than the last
+/// (up to the whole give); one against it gives half ([`GestureRig::apply_slip`]).
+pub const SLIP_GAIN_GROWTH: f64 = 1.25;
 /// Speed of the crumple hands, m/s (grip 0.5).
 const CRUMPLE_SPEED_M_S: f64 = 1.025;
 
@@ -280,7 +294,8 @@ pub struct GestureRig {
     info: [HandInfo; NUM_HANDS],
     /// The state (gestures, grabs, hand poses).
     pub state: RigState,
-    /// Suppressed slot hands (one of their handle vertices is held by a crumple hand).
+    /// Suppressed slot hands (one of their handle vertices is held by a crumple hand or next to
+    /// one of its handle vertices).
     suppressed: [bool; NUM_HANDS],
     /// Held vertices: (vertex, hand, index of the vertex in the hand).
     ownership: Vec<(u32, u8, u8)>,
@@ -747,10 +762,20 @@ impl GestureRig {
                 }
                 let def = &self.info[k].def;
                 let nm = def.num_mains as usize;
-                if def.vertices[..nm]
-                    .iter()
-                    .any(|&v| self.claim[v as usize] != u8::MAX)
-                {
+                // A handle vertex another hand holds, or next to one of its handle vertices:
+                // two rigid grips one edge apart would tear the paper between them as they
+                // move, so the later hand stands aside.
+                let taken = |v: u32| {
+                    let (a, b) = (
+                        self.adj_offsets[v as usize] as usize,
+                        self.adj_offsets[v as usize + 1] as usize,
+                    );
+                    self.claim[v as usize] != u8::MAX
+                        || self.adj[a..b]
+                            .iter()
+                            .any(|&u| self.claim[u as usize] != u8::MAX)
+                };
+                if def.vertices[..nm].iter().any(|&v| taken(v)) {
                     self.suppressed[k] = true;
                     continue;
                 }
@@ -834,16 +859,38 @@ impl GestureRig {
         }
     }
 
-    /// Lets hands give way where the sheet pulls harder than their grip, never deeper into an
-    /// obstacle (see the module doc). `forces` are the elastic forces on the vertices; returns
-    /// true if any hand slipped.
-    pub fn apply_slip(&mut self, forces: &[V3], frame_scale: f64, obstacles: &Obstacles) -> bool {
+    /// Lets hands give way where the sheet pulls harder than their grip or is strained beyond
+    /// what paper takes, never deeper into an obstacle (module doc, "Grip and obstacles").
+    /// `forces` are the elastic forces on the vertices, `vertex_strain` the largest strain of
+    /// each vertex's triangles ([`crate::metrics::vertex_strains`]), `spacing_m` the mesh's
+    /// edge length. Returns true if any hand slipped or let go of a vertex.
+    pub fn apply_slip(
+        &mut self,
+        forces: &[V3],
+        vertex_strain: &[f64],
+        spacing_m: f64,
+        frame_scale: f64,
+        obstacles: &Obstacles,
+    ) -> bool {
         let clamp_m = self.travel_clamp_m(frame_scale);
         let mut f = [V3::zeros(); NUM_HANDS];
-        for &(v, k, _) in &self.ownership {
-            f[k as usize] += forces[v as usize];
-        }
+        let mut strain = [0.0f64; NUM_HANDS];
         let mut any = false;
+        for &(v, k, j) in &self.ownership {
+            f[k as usize] += forces[v as usize];
+            let s = vertex_strain.get(v as usize).copied().unwrap_or(0.0);
+            strain[k as usize] = strain[k as usize].max(s);
+            // A finger does not hold paper torn apart under it: a held neighbour (not the
+            // handle vertex itself) whose triangles are strained beyond the release strain
+            // slides out of the grip.
+            let h = &mut self.state.hands[k as usize];
+            if s > STRAIN_RELEASE && j >= self.info[k as usize].def.num_mains && h.holds(j as usize)
+            {
+                h.mask &= !(1u16 << j);
+                self.ownership_dirty = true;
+                any = true;
+            }
+        }
         for (k, fk) in f.iter().enumerate() {
             let h = &self.state.hands[k];
             if !h.active || self.suppressed[k] {
@@ -851,11 +898,25 @@ impl GestureRig {
             }
             let n = fk.norm();
             let fmax = grip_force_n(h.speed_m_s) * f64::from(self.info[k].def.num_mains);
-            if n > fmax && n.is_finite() {
-                let d = ((n - fmax) * HAND_COMPLIANCE_M_N).min(clamp_m);
+            // The give: the pull beyond the grip, and the strain beyond a few percent (paper
+            // does not stretch; the hand's fingers slide instead).
+            let give_m = (n - fmax).max(0.0) * HAND_COMPLIANCE_M_N
+                + (strain[k] - STRAIN_GIVE).max(0.0) * spacing_m;
+            // A give below SLIP_MIN_M is a hand at its balance (or a rounding error), not a
+            // slip: it would keep a held sheet awake forever for nothing.
+            if give_m > SLIP_MIN_M && n > 0.0 && n.is_finite() && give_m.is_finite() {
+                // A slip against the last one's direction overshot the balance: halve the
+                // give, so a hand the sheet pulls back and forth settles instead of swinging.
+                let dir = fk / n;
+                let gain = if dir.dot(&V3::from(h.slip_dir)) < 0.0 {
+                    0.5 * h.slip_gain
+                } else {
+                    (SLIP_GAIN_GROWTH * h.slip_gain).min(1.0)
+                };
+                let d = give_m.min(clamp_m) * gain;
                 let r = h.pose.rotation();
                 let p0 = h.pose.pos();
-                let mut p = p0 + fk * (d / n);
+                let mut p = p0 + dir * d;
                 for pl in obstacles.planes.iter().filter(|pl| pl.active) {
                     let excess =
                         self.held_depth_m(k, p, &r, pl) - self.held_depth_m(k, p0, &r, pl).max(0.0);
@@ -863,9 +924,15 @@ impl GestureRig {
                         p += pl.normal * excess;
                     }
                 }
+                // Given way into a table or a wall, the hand goes nowhere: it holds.
+                if (p - p0).norm() <= SLIP_MIN_M {
+                    continue;
+                }
                 let h = &mut self.state.hands[k];
                 h.pose = Pose::new(p, r);
                 h.slipping = true;
+                h.slip_dir = [dir.x, dir.y, dir.z];
+                h.slip_gain = gain;
                 any = true;
             }
         }
@@ -875,6 +942,14 @@ impl GestureRig {
     /// Vertices currently held (for tags and stats).
     pub fn held_vertices(&self) -> impl Iterator<Item = u32> + '_ {
         self.ownership.iter().map(|o| o.0)
+    }
+
+    /// The hand holding vertex `v`, if any (tests and diagnostics).
+    pub fn hand_of(&self, v: u32) -> Option<usize> {
+        self.ownership
+            .iter()
+            .find(|o| o.0 == v)
+            .map(|o| usize::from(o.1))
     }
 
     /// The definition of hand `k` (tests and diagnostics).
@@ -960,7 +1035,8 @@ mod tests {
                     *f = V3::new(30.0, 0.0, -30.0);
                 }
             }
-            assert!(rig.apply_slip(&forces, 1.0, obs));
+            let no_strain = vec![0.0; forces.len()];
+            assert!(rig.apply_slip(&forces, &no_strain, 0.033, 1.0, obs));
             let (_, after) = targets(&rig, &sheet);
             let held: Vec<usize> = (0..fixed.len()).filter(|&i| fixed[i]).collect();
             let dx = held.iter().map(|&i| after[i].x - before[i].x).sum::<f64>();
@@ -975,6 +1051,97 @@ mod tests {
                 assert!(z_min < 0.75 - 1e-4, "slipped down: {z_min}");
             }
         }
+    }
+
+    /// The held vertices' mean displacement between two target sets.
+    fn mean_shift(before: &[V3], after: &[V3], fixed: &[bool]) -> V3 {
+        let held: Vec<usize> = (0..fixed.len()).filter(|&i| fixed[i]).collect();
+        held.iter().map(|&i| after[i] - before[i]).sum::<V3>() / held.len() as f64
+    }
+
+    /// A hand pulled back and forth beyond its grip gives less each time the pull reverses
+    /// (halved), so it settles at its balance instead of swinging over it frame after frame.
+    #[test]
+    fn a_hand_pulled_back_and_forth_gives_less_each_time() {
+        let (sheet, mut rig, _, mut rng) = setup();
+        let obs = Obstacles::new(&RoomConfig {
+            table: false,
+            ..RoomConfig::default()
+        });
+        rig.grab(GrabSlot::Back, 0.0, &sheet.sp.pos);
+        run(&mut rig, &sheet, &obs, &mut rng, 5);
+        let no_strain = vec![0.0; sheet.sp.num_vertices()];
+        let mut gives = Vec::new();
+        for k in 0..6 {
+            let (fixed, before) = targets(&rig, &sheet);
+            let pull = if k % 2 == 0 { 30.0 } else { -30.0 };
+            let forces: Vec<V3> = fixed
+                .iter()
+                .map(|&h| {
+                    if h {
+                        V3::new(pull, 0.0, 0.0)
+                    } else {
+                        V3::zeros()
+                    }
+                })
+                .collect();
+            assert!(rig.apply_slip(&forces, &no_strain, 0.033, 1.0, &obs));
+            let (_, after) = targets(&rig, &sheet);
+            gives.push(mean_shift(&before, &after, &fixed).x.abs());
+        }
+        for w in gives.windows(2) {
+            assert!(
+                (w[1] - 0.5 * w[0]).abs() < 1e-9 * w[0],
+                "gives {gives:?}: each reversal halves the give"
+            );
+        }
+    }
+
+    /// A hand whose held vertices' triangles are strained beyond STRAIN_GIVE gives way along
+    /// the sheet's pull even when the pull is within its grip; a held neighbour strained beyond
+    /// STRAIN_RELEASE slides out of the grip; below both the hand holds.
+    #[test]
+    fn a_strained_grip_gives_way_and_lets_go_of_the_torn_vertex() {
+        let (sheet, mut rig, obs, mut rng) = setup();
+        rig.grab(GrabSlot::Back, 1.0, &sheet.sp.pos);
+        run(&mut rig, &sheet, &obs, &mut rng, 5);
+        let n = sheet.sp.num_vertices();
+        let (fixed, before) = targets(&rig, &sheet);
+        // A gentle pull along +y, well within the grip.
+        let forces: Vec<V3> = fixed
+            .iter()
+            .map(|&h| {
+                if h {
+                    V3::new(0.0, 0.01, 0.0)
+                } else {
+                    V3::zeros()
+                }
+            })
+            .collect();
+        let mut strain = vec![0.0; n];
+        assert!(
+            !rig.apply_slip(&forces, &strain, 0.033, 1.0, &obs),
+            "holds unstrained"
+        );
+        let held = rig.hand_def(0).vertices[..rig.hand_def(0).num_vertices as usize].to_vec();
+        for &v in &held {
+            strain[v as usize] = 0.06;
+        }
+        assert!(rig.apply_slip(&forces, &strain, 0.033, 1.0, &obs));
+        let (_, after) = targets(&rig, &sheet);
+        let shift = mean_shift(&before, &after, &fixed);
+        assert!(
+            (shift.y - 0.02 * 0.033).abs() < 1e-9 && shift.x.abs() < 1e-12,
+            "gave {shift:?} along the pull"
+        );
+        // A neighbour (not a handle vertex) torn beyond STRAIN_RELEASE slides out.
+        let nm = rig.hand_def(0).num_mains as usize;
+        let torn = held[nm];
+        strain[torn as usize] = 0.09;
+        rig.apply_slip(&forces, &strain, 0.033, 1.0, &obs);
+        run(&mut rig, &sheet, &obs, &mut rng, 1);
+        assert_eq!(rig.hand_of(torn), None, "the torn neighbour is let go");
+        assert_eq!(rig.hand_of(held[0]), Some(0), "the handle vertex is kept");
     }
 
     #[test]

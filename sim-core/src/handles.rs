@@ -303,6 +303,19 @@ pub struct HandState {
     /// from before this field load as `None` (the hand moves on, as it did then).
     #[serde(default)]
     pub yielded_to: Option<Pose>,
+    /// Direction of the hand's last slip (unit; zero before the first).
+    #[serde(default)]
+    pub slip_dir: [f64; 3],
+    /// Fraction of the grip's give the next slip takes, (0, 1]: halved by a slip against the
+    /// last one's direction, grown again by slips that go on the same way, reset when the
+    /// hand heads for a new target (see `GestureRig::apply_slip`). Saves from before it load
+    /// with 1.
+    #[serde(default = "full_slip_gain")]
+    pub slip_gain: f64,
+}
+
+fn full_slip_gain() -> f64 {
+    1.0
 }
 
 impl HandState {
@@ -347,6 +360,8 @@ impl HandState {
             slipping: false,
             caution: 1.0,
             yielded_to: None,
+            slip_dir: [0.0; 3],
+            slip_gain: 1.0,
         }
     }
 
@@ -378,6 +393,7 @@ impl HandState {
                 return false;
             }
             self.yielded_to = None;
+            self.slip_gain = 1.0;
         }
         self.caution = (self.caution * 1.1).min(1.0);
         let max_step = (self.speed_m_s * dt_s).min(clamp_m) * self.caution;
@@ -403,7 +419,9 @@ impl HandState {
             r0.slerp(&r1, max_angle_rad / ang)
         };
         self.pose = Pose::new(new_p, new_r);
-        moved
+        // A rotation already at its target can still read a rounding error's angle: only a
+        // pose that changed counts as motion (else a held twist never lets the sheet sleep).
+        moved && !same_pose(&self.prev_pose, &self.pose)
     }
 
     /// Re-anchors the hand where the sheet is now (after a reset, or when a hand that was

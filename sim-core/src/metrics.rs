@@ -46,6 +46,20 @@ pub fn triangle_strain(mesh: &PhysMesh, t: usize, x: [V3; 3]) -> f64 {
     if s.is_finite() { s } else { f64::INFINITY }
 }
 
+/// The largest [`triangle_strain`] of each vertex's triangles into `out` (one entry per
+/// vertex; no allocation when it has the capacity).
+pub fn vertex_strains(mesh: &PhysMesh, out: &mut Vec<f64>) {
+    out.clear();
+    out.resize(mesh.num_vertices(), 0.0);
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let s = triangle_strain(mesh, t, tri.map(|i| mesh.pos[i as usize]));
+        for &v in tri {
+            let e = &mut out[v as usize];
+            *e = e.max(s);
+        }
+    }
+}
+
 /// [`Metrics::max_strain`] of `mesh` with its vertices at `pos` (0 if `pos` does not fit).
 pub fn max_strain(mesh: &PhysMesh, pos: &[V3]) -> f64 {
     if pos.len() != mesh.num_vertices() {

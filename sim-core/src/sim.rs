@@ -147,8 +147,11 @@ use crate::sound_input::SoundFrame;
 
 pub use crate::control::DEFAULT_FRAME_RATE_HZ;
 
-/// Largest vertex speed of a sheet allowed to fall asleep, m/s.
-pub const SLEEP_SPEED_M_S: f64 = 2e-3;
+/// Largest vertex speed of a sheet allowed to fall asleep, m/s: 1 mm over the
+/// [`SLEEP_FRAMES`] it must stay that slow. A held sheet's free flap creeps into its sag at a few
+/// millimetres a second under the linear air drag (real air barely damps so slow a motion), and
+/// at 2 mm/s it kept the sheet awake for seconds after the hands stopped.
+pub const SLEEP_SPEED_M_S: f64 = 5e-3;
 /// Consecutive quiet frames before the sheet falls asleep.
 pub const SLEEP_FRAMES: u32 = 40;
 /// Strain (largest principal stretch deviation, `Metrics::max_strain`) above which a stalled
@@ -318,6 +321,8 @@ pub struct Sim {
     fixed: Vec<bool>,
     kin_target: Vec<V3>,
     forces: Vec<V3>,
+    /// Largest strain of each vertex's triangles (the hands' give, `GestureRig::apply_slip`).
+    vertex_strain: Vec<f64>,
     contacts: Vec<VertexContact>,
     metrics: MetricsTracker,
     last_metrics: Metrics,
@@ -424,6 +429,7 @@ impl Sim {
             fixed: vec![false; n],
             kin_target: vec![V3::zeros(); n],
             forces: vec![V3::zeros(); n],
+            vertex_strain: Vec::with_capacity(mesh_capacity.0),
             contacts: vec![VertexContact::default(); n],
             metrics,
             last_metrics: Metrics::default(),
@@ -794,9 +800,14 @@ impl Sim {
         let mut slipped = false;
         if self.rig.num_active_hands() > 0 {
             crate::physics::elastic_forces(&self.sheet.sp, &self.params, &mut self.forces);
-            slipped = self
-                .rig
-                .apply_slip(&self.forces, frame_scale, &self.obstacles);
+            crate::metrics::vertex_strains(&self.sheet.sp, &mut self.vertex_strain);
+            slipped = self.rig.apply_slip(
+                &self.forces,
+                &self.vertex_strain,
+                self.cfg.mesh.spacing_m(self.cfg.size),
+                frame_scale,
+                &self.obstacles,
+            );
         }
         self.phase_ns.physics_ns = self.stopwatch.lap_ns();
         if self.cfg.geometry.enabled {

@@ -46,6 +46,15 @@ use serde::{Deserialize, Serialize};
 pub const MAX_SPEED_M_S: f64 = 50.0;
 /// Largest principal strain deviation |λ − 1| accepted under the hostile stream.
 pub const MAX_STRAIN: f64 = 1.0;
+/// Frames of a "hold still" phase: the shake stops and no other command comes.
+pub const HOLD_FRAMES: u64 = 600;
+/// In a hold, the sheet must be asleep this many frames after the rig and the room stopped
+/// moving (2 s: the hostile stream leaves sheets flung at metres per second or dropped from a
+/// raised table, which take longer than the second a sheet held still by the user's gestures
+/// takes, `tests/rest.rs`).
+pub const HOLD_SETTLE_FRAMES: u64 = 400;
+/// Largest strain of a sheet at rest in a hold.
+pub const HOLD_MAX_STRAIN: f64 = 0.1;
 
 /// What to run.
 #[derive(Clone, Copy, Debug)]
@@ -110,6 +119,10 @@ pub struct StressReport {
     pub max_c_mean_pct: f64,
     /// Most S_P vertices on one sheet.
     pub max_vertices: usize,
+    /// "Hold still" phases played to their end.
+    pub holds: u64,
+    /// Longest wait from the rig's last motion to the sheet's sleep in a hold, frames.
+    pub max_settle_frames: u64,
     /// First violation, if any (frame, description).
     pub failure: Option<(u64, String)>,
 }
@@ -197,7 +210,9 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
     let mut out = FrameOutput::default();
     let mut rep = StressReport::default();
     // Bursts: a busy phase (commands nearly every frame), a calm phase (rare commands, long
-    // enough for the sheet to settle and sleep), a storm (many commands per frame).
+    // enough for the sheet to settle and sleep), a storm (many commands per frame), and a
+    // hold: the shake stops, nothing else changes, and the sheet must come to rest (asleep
+    // within a second of the rig's last motion, silent and unstrained while asleep).
     let mut singular_pos: Vec<crate::math::V2> = Vec::new();
     let mut sheet_frame = 0u64;
     let mut phase_left = 0u64;
@@ -206,16 +221,37 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
     // how many of them are left.
     let mut twin: Option<(Sim, u64)> = None;
     let mut twin_out = FrameOutput::default();
+    // In a hold: the frame at which the rig last moved, and since when the sheet sleeps.
+    let mut hold_moved_at = 0u64;
+    let mut hold_asleep_at: Option<u64> = None;
     for f in 0..cfg.frames {
         if phase_left == 0 {
-            phase = rng.random_range(0..3);
-            phase_left = rng.random_range(20..400);
+            phase = rng.random_range(0..4);
+            phase_left = if phase == 3 {
+                HOLD_FRAMES
+            } else {
+                rng.random_range(20..400)
+            };
+            if phase == 3 {
+                let c = Command::Gesture {
+                    param: GestureParam::ShakeDepth,
+                    value: 0.0,
+                };
+                sim.apply(c);
+                if let Some((t, _)) = twin.as_mut() {
+                    t.apply(c);
+                }
+                rep.commands += 1;
+                hold_moved_at = f;
+                hold_asleep_at = None;
+            }
         }
         phase_left -= 1;
         let n_cmds = match phase {
             0 => u32::from(rng.random_range(0..3u32) == 0),
             1 => u32::from(rng.random_range(0..200u32) == 0),
-            _ => rng.random_range(0..6u32),
+            2 => rng.random_range(0..6u32),
+            _ => 0,
         };
         for _ in 0..n_cmds {
             let c = random_command(&mut rng, cfg.change_size);
@@ -283,6 +319,49 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
         if let Some(msg) = check(&sim, &out) {
             rep.failure = Some((f, msg));
             return rep;
+        }
+        if phase == 3 {
+            // A table or wall still easing to where a room command put it is a change in
+            // progress too.
+            if sim.rig().is_moving() || sim.obstacles().is_moving() {
+                hold_moved_at = f;
+            }
+            if st.asleep {
+                hold_asleep_at.get_or_insert(f);
+            } else {
+                hold_asleep_at = None;
+            }
+            let since = f - hold_moved_at;
+            if since > HOLD_SETTLE_FRAMES {
+                let a = sim.analysis_stats();
+                let problem = if !st.asleep {
+                    Some(format!(
+                        "held still, the sheet is awake {since} frames after the rig stopped \
+                         (vmax {:.4} m/s, strain {:.3})",
+                        m.max_speed_m_s, m.max_strain
+                    ))
+                } else if a.crumple_events + a.clac_events > 0 {
+                    Some("held still and asleep, the sheet made a crumple event".into())
+                } else if m.max_strain > HOLD_MAX_STRAIN {
+                    Some(format!(
+                        "held still, the sheet rests at strain {:.3}",
+                        m.max_strain
+                    ))
+                } else {
+                    None
+                };
+                if let Some(msg) = problem {
+                    rep.failure = Some((f, msg));
+                    return rep;
+                }
+            }
+            if phase_left == 0 {
+                rep.holds += 1;
+                if let Some(a) = hold_asleep_at {
+                    rep.max_settle_frames =
+                        rep.max_settle_frames.max(a.saturating_sub(hold_moved_at));
+                }
+            }
         }
         // Geometry layer: the singular count never decreases on one sheet (a reset or size
         // change starts a new sheet, frame counter back to 0), singular points never move in

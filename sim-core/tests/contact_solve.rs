@@ -20,8 +20,11 @@ use sim_core::scenario;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{FrameOutput, SimConfig};
 
-/// Frames of the crumple played (measured: 142 of them end at the cap with the diagonal
-/// blocks alone).
+/// Frames of the crumple played (measured on C5: 106 of them end at the cap with the diagonal
+/// blocks alone, 32 with the coupling). The case is a course: S4, the first case, no longer
+/// separates them as clearly (125 and 81) since the hands give way by their balance
+/// (`gesture_rig.rs`, "Grip and obstacles"); another course that makes such frames replaces a
+/// case that no longer does.
 const FRAMES: usize = 400;
 
 /// Frames that ran into the iteration cap among the first [`FRAMES`] awake frames of `name`
@@ -47,8 +50,8 @@ fn capped_frames(name: &str, coupling: u32) -> usize {
 
 #[test]
 fn coupling_the_layers_lets_the_crumples_contact_frames_converge() {
-    let coupled = capped_frames("s4_crumple", 32);
-    let diagonal = capped_frames("s4_crumple", 0);
+    let coupled = capped_frames("c5_full_crumple", 32);
+    let diagonal = capped_frames("c5_full_crumple", 0);
     eprintln!("frames at the cap: coupled {coupled}, diagonal {diagonal}");
     assert!(
         diagonal > 100,

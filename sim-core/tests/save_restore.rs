@@ -97,7 +97,7 @@ fn a_restored_sheet_saves_back_what_it_was_saved_as() {
 /// still makes no clac for its old singular points.
 #[test]
 fn a_reopened_crumpled_sheet_sounds_as_the_uninterrupted_one() {
-    let (mut sim, mut runner, cfg) = mid_scenario("c5_full_crumple", 250);
+    let (mut sim, mut runner, cfg) = mid_scenario("c5_full_crumple", 320);
     let saved = sim.save();
     assert!(saved.singular_vertices.len() >= 10, "the sheet is crumpled");
     let history = saved.sound_history.as_ref().expect("the history is saved");

@@ -60,7 +60,8 @@ ccs = [
 ]
 
 def render(msgs):
-    p = load_plugin(path)
+    # pedalboard waits initialization_timeout for non-silent output; an idle instrument is silent.
+    p = load_plugin(path, initialization_timeout=0.1)
     out = p(sorted(msgs, key=lambda m: m.time), duration=2.0, sample_rate=sr,
             num_channels=2, buffer_size=512, reset=True)
     assert out.shape == (2, 2 * sr), out.shape

@@ -136,6 +136,15 @@ pub fn demo(args: &[String]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// True if `cargo nextest` runs here.
+fn nextest_available() -> bool {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    Command::new(cargo)
+        .args(["nextest", "--version"])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
 /// The full test run.
 pub fn test(args: &[String]) -> anyhow::Result<()> {
     if let Some(a) = args.first() {
@@ -155,7 +164,22 @@ pub fn test(args: &[String]) -> anyhow::Result<()> {
         "-D",
         "warnings",
     ])?;
-    cargo(&["test", "--workspace", "--no-fail-fast"])?;
+    // cargo-nextest runs the test binaries side by side (cargo test runs them one after the
+    // other, and a binary with one long test leaves a core idle); doctests it does not run.
+    if nextest_available() {
+        cargo(&[
+            "nextest",
+            "run",
+            "--workspace",
+            "--no-fail-fast",
+            "--failure-output",
+            "final",
+        ])?;
+        cargo(&["test", "--workspace", "--doc"])?;
+    } else {
+        eprintln!("xtask: cargo-nextest is not installed; running the tests with cargo test");
+        cargo(&["test", "--workspace", "--no-fail-fast"])?;
+    }
     // The render path's allocation proof needs its own global allocator, which debug builds
     // cannot have (nice-plug's allocation checker is theirs): run it in release.
     cargo(&[

@@ -21,7 +21,9 @@ impl GeometryLayer {
         // Undriven, the step runs only for a compression beyond the trigger that is not the
         // one it already met (isometry.rs "When it runs"): a compression the physics rebuilt
         // after the last undriven run is the hands' doing, and correcting it again each frame
-        // only feeds a correction–rebuild cycle.
+        // only feeds a correction–rebuild cycle. The one met is kept until a gesture drives
+        // the sheet again: a rebuild that passes below the trigger on its way back is the
+        // same compression, and forgetting it there let the step run every other frame.
         let mut undriven_comp = None;
         let idle = if driven {
             self.iso_undriven_compression = 0.0;
@@ -29,7 +31,6 @@ impl GeometryLayer {
         } else if let Some(c) = self.cfg.isometry.trigger_compression {
             let comp = Isometry::max_compression(sp);
             if comp <= c {
-                self.iso_undriven_compression = 0.0;
                 true
             } else {
                 undriven_comp = Some(comp);

@@ -3,6 +3,7 @@
 // Each test crate compiles this module and uses only some of it.
 #![allow(dead_code)]
 
+pub mod gesture_family;
 pub mod json_mutation;
 
 use sim_core::scenario_run::state_hash;

@@ -37,6 +37,27 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
         if std::env::var("STATS").is_ok() {
             println!("{s:?}");
         }
+        if std::env::var("FASTEST").is_ok() {
+            let sp = &sim.sheet().sp;
+            let (v, speed) = sp
+                .vel
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (i, v.norm()))
+                .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+            let c = sim.contacts()[v];
+            println!(
+                "  fastest vertex {v} at {:.2} mm/s, pos {:?}, vel {:?}, held {:?}, contact {} {:?}, isometry {:.2e} m, asleep {}",
+                speed * 1e3,
+                sp.pos[v].as_slice(),
+                sp.vel[v].as_slice(),
+                sim.rig().hand_of(v as u32),
+                c.in_contact,
+                c.obstacle,
+                sim.geometry().isometry.max_disp_m,
+                s.asleep
+            );
+        }
         println!(
             "+{k}: strain {:.3}, halvings {}, iterations {}, pinned {}, held back {}, split {}, flipped {}",
             sim.metrics().max_strain,

@@ -22,6 +22,8 @@ mod insert_probe;
 mod iso_conv;
 mod iter_hist;
 mod play;
+mod rest_family;
+mod rest_probe;
 mod scenario_probe;
 mod singular_probe;
 mod sound_hash;
@@ -73,6 +75,18 @@ const COMMANDS: &[Command] = &[
         about: "whether a held sheet comes to rest: step time, iterations, isometry per 50 frames",
         usage: hold_probe::USAGE,
         run: hold_probe::run,
+    },
+    Command {
+        name: "rest-family",
+        about: "seeded random gesture combinations held still: settle time, strain, events, step time",
+        usage: rest_family::USAGE,
+        run: rest_family::run,
+    },
+    Command {
+        name: "rest-probe",
+        about: "what keeps a held sheet from settling: strain, speed, events, slips, squeeze per 0.25 s",
+        usage: rest_probe::USAGE,
+        run: rest_probe::run,
     },
     Command {
         name: "flip-probe",

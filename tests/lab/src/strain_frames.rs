@@ -55,8 +55,9 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                 .max_by(|&a, &b| strain(a).total_cmp(&strain(b)))
                 .unwrap_or(0);
             let held: Vec<u32> = sim.rig().held_vertices().collect();
+            let hands = sp.triangles[t].map(|v| sim.rig().hand_of(v));
             println!(
-                "  worst triangle {t} {:?} (strain {:.3}); held {held:?}; {} vertices, {} inserted so far",
+                "  worst triangle {t} {:?} (strain {:.3}, hands {hands:?}); held {held:?}; {} vertices, {} inserted so far",
                 sp.triangles[t],
                 strain(t),
                 sp.pos.len(),

@@ -94,7 +94,7 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
         asleep += r.asleep_frames;
         cmds += r.commands;
         println!(
-            "session {s:3} seed {:3}: {:7} frames, {:6} commands, {:6} asleep, vmax {:6.2} m/s, KE {:.2e} J, strain {:.3}, flips {}, recoveries {}, singular ≤ {}, c_mean ≤ {:.3} %, vertices ≤ {}",
+            "session {s:3} seed {:3}: {:7} frames, {:6} commands, {:6} asleep, vmax {:6.2} m/s, KE {:.2e} J, strain {:.3}, flips {}, recoveries {}, singular ≤ {}, c_mean ≤ {:.3} %, vertices ≤ {}, {} holds (asleep ≤ {} frames after the rig stopped)",
             seed + s,
             r.frames,
             r.commands,
@@ -106,7 +106,9 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
             r.recoveries,
             r.max_singular,
             r.max_c_mean_pct,
-            r.max_vertices
+            r.max_vertices,
+            r.holds,
+            r.max_settle_frames
         );
         if let Some((f, msg)) = r.failure {
             anyhow::bail!("FAIL: session {s} (seed {}), frame {f}: {msg}", seed + s);
@@ -117,7 +119,7 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
     }
     let secs = t0.elapsed().as_secs_f64();
     println!(
-        "OK: {total} frames ({cmds} commands, {asleep} asleep) in {secs:.1} s ({:.3} ms/frame); max speed {vmax:.2} m/s, max KE {kemax:.2e} J, max strain {strain:.3}; no NaN, no flipped triangle, no recovery, mesh valid, singular counts never decreased, c_mean bounded, saved sheets continued bit-identically with the same sound input",
+        "OK: {total} frames ({cmds} commands, {asleep} asleep) in {secs:.1} s ({:.3} ms/frame); max speed {vmax:.2} m/s, max KE {kemax:.2e} J, max strain {strain:.3}; no NaN, no flipped triangle, no recovery, mesh valid, singular counts never decreased, c_mean bounded, saved sheets continued bit-identically with the same sound input, every hold came to rest",
         secs * 1e3 / total.max(1) as f64
     );
     Ok(())
