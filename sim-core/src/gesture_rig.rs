@@ -58,6 +58,14 @@
 //!   there while its target stays ([`crate::handles::HandState::advance`]). Contradictory hard
 //!   constraints would otherwise crush or tear the sheet; gravity and bending pull with
 //!   millinewtons, so only such gestures are affected ("Hands, grip and obstacles").
+//! - **Paper does not stretch.** A hand also gives way where its vertices' triangles are
+//!   strained beyond [`STRAIN_GIVE`] (4 %), by the excess times the edge length, and a held
+//!   neighbour strained beyond [`STRAIN_RELEASE`] slides out of the grip ("A held sheet comes
+//!   to rest").
+//! - **Settling.** A give against the last one's direction is halved (it overshot the balance;
+//!   the hands would otherwise swing over it frame after frame), one the same way grows back by
+//!   [`SLIP_GAIN_GROWTH`]; a give under [`SLIP_MIN_M`], or into a table or a wall, is none: a
+//!   hand at its balance holds, so a held sheet comes to rest and sleeps.
 //! - **Obstacles.** Targets are moved out of the table, wall and floor; a hand never gives way
 //!   into one, a hand holding paper inside one comes out at its travel speed, and a moving one
 //!   carries every hand by the largest push any needs, as they hold one sheet (`obstacles`).
