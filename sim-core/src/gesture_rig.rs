@@ -59,13 +59,20 @@
 //!   constraints would otherwise crush or tear the sheet; gravity and bending pull with
 //!   millinewtons, so only such gestures are affected ("Hands, grip and obstacles").
 //! - **Paper does not stretch.** A hand also gives way where its vertices' triangles are
-//!   strained beyond [`STRAIN_GIVE`] (4 %), by the excess times the edge length, and a held
-//!   neighbour strained beyond [`STRAIN_RELEASE`] slides out of the grip ("A held sheet comes
-//!   to rest").
+//!   strained beyond [`STRAIN_GIVE`] (4 %) while it moves or slides, beyond
+//!   [`STRAIN_GIVE_STILL`] (6 %) while it is still (static friction holds more than kinetic:
+//!   a sheet sagging in still hands stops instead of creeping through them), by the excess
+//!   times the edge length; a held neighbour strained beyond [`STRAIN_RELEASE`] slides out of
+//!   the grip. What a frame still leaves strained beyond 8 % the strain limit projects
+//!   ([`crate::physics::strain_limit`]); where it moves held vertices, their hand slips with
+//!   its handle vertices and lets go of its neighbours ([`GestureRig::regrip`]) ("A held sheet
+//!   comes to rest").
 //! - **Settling.** A give against the last one's direction is halved (it overshot the balance;
 //!   the hands would otherwise swing over it frame after frame), one the same way grows back by
-//!   [`SLIP_GAIN_GROWTH`]; a give under [`SLIP_MIN_M`], or into a table or a wall, is none: a
-//!   hand at its balance holds, so a held sheet comes to rest and sleeps.
+//!   [`SLIP_GAIN_GROWTH`]; the direction is the move's once kept out of tables and walls, and a
+//!   regrip's slip counts as the last one (a hand pulled into the table, or between the strain
+//!   limit and its grip, swings sideways). A give under [`SLIP_MIN_M`], or into a table or a
+//!   wall, is none: a hand at its balance holds, so a held sheet comes to rest and sleeps.
 //! - **Obstacles.** Targets are moved out of the table, wall and floor; a hand never gives way
 //!   into one, a hand holding paper inside one comes out at its travel speed, and a moving one
 //!   carries every hand by the largest push any needs, as they hold one sheet (`obstacles`).
@@ -151,6 +158,9 @@ pub const HAND_COMPLIANCE_M_N: f64 = 0.01;
 /// beyond its grip, by the excess times the mesh's edge length per frame: paper does not
 /// stretch by more than a few percent, the fingers slide.
 pub const STRAIN_GIVE: f64 = 0.04;
+/// Strain a still hand's fingers hold before they give way (static friction: more than
+/// [`STRAIN_GIVE`], which sliding or moving fingers hold).
+pub const STRAIN_GIVE_STILL: f64 = 0.06;
 /// Smallest give that moves a hand, metres (below it the hand holds: it is at its balance).
 pub const SLIP_MIN_M: f64 = 2e-5;
 /// Strain of a held neighbour vertex's triangles beyond which it slides out of the grip (the
@@ -900,31 +910,34 @@ impl GestureRig {
             }
         }
         for (k, fk) in f.iter().enumerate() {
-            let h = &self.state.hands[k];
+            let h = &mut self.state.hands[k];
+            // Fingers that slid in the last frame or move now hold to STRAIN_GIVE; still ones
+            // to STRAIN_GIVE_STILL (static friction holds more than kinetic), so a sheet that
+            // sags in still hands stops instead of creeping through them at a strain just
+            // over the give.
+            let give_strain = if h.sliding || !h.is_still() {
+                STRAIN_GIVE
+            } else {
+                STRAIN_GIVE_STILL
+            };
+            h.sliding = false;
             if !h.active || self.suppressed[k] {
                 continue;
             }
+            let h = &self.state.hands[k];
             let n = fk.norm();
             let fmax = grip_force_n(h.speed_m_s) * f64::from(self.info[k].def.num_mains);
             // The give: the pull beyond the grip, and the strain beyond a few percent (paper
             // does not stretch; the hand's fingers slide instead).
             let give_m = (n - fmax).max(0.0) * HAND_COMPLIANCE_M_N
-                + (strain[k] - STRAIN_GIVE).max(0.0) * spacing_m;
+                + (strain[k] - give_strain).max(0.0) * spacing_m;
             // A give below SLIP_MIN_M is a hand at its balance (or a rounding error), not a
             // slip: it would keep a held sheet awake forever for nothing.
             if give_m > SLIP_MIN_M && n > 0.0 && n.is_finite() && give_m.is_finite() {
-                // A slip against the last one's direction overshot the balance: halve the
-                // give, so a hand the sheet pulls back and forth settles instead of swinging.
                 let dir = fk / n;
-                let gain = if dir.dot(&V3::from(h.slip_dir)) < 0.0 {
-                    0.5 * h.slip_gain
-                } else {
-                    (SLIP_GAIN_GROWTH * h.slip_gain).min(1.0)
-                };
-                let d = give_m.min(clamp_m) * gain;
                 let r = h.pose.rotation();
                 let p0 = h.pose.pos();
-                let mut p = p0 + dir * d;
+                let mut p = p0 + dir * give_m.min(clamp_m);
                 for pl in obstacles.planes.iter().filter(|pl| pl.active) {
                     let excess =
                         self.held_depth_m(k, p, &r, pl) - self.held_depth_m(k, p0, &r, pl).max(0.0);
@@ -932,16 +945,69 @@ impl GestureRig {
                         p += pl.normal * excess;
                     }
                 }
+                // A slip against the last one's direction overshot the balance: halve the
+                // give, so a hand the sheet pulls back and forth settles instead of swinging.
+                // The direction is the move's, out of the obstacles (a pull into the table
+                // swinging sideways is still a swing).
+                let step = p - p0;
+                let len = step.norm();
+                let gain = if step.dot(&V3::from(h.slip_dir)) < 0.0 {
+                    0.5 * h.slip_gain
+                } else {
+                    (SLIP_GAIN_GROWTH * h.slip_gain).min(1.0)
+                };
+                // The segment from p0 stays out of the obstacles (depth is linear along it).
+                let p = p0 + step * gain;
                 // Given way into a table or a wall, the hand goes nowhere: it holds.
                 if (p - p0).norm() <= SLIP_MIN_M {
                     continue;
                 }
+                let dir = step / len;
                 let h = &mut self.state.hands[k];
                 h.pose = Pose::new(p, r);
                 h.slipping = true;
                 h.slip_dir = [dir.x, dir.y, dir.z];
                 h.slip_gain = gain;
+                h.sliding = true;
                 any = true;
+            }
+        }
+        any
+    }
+
+    /// Gives way where the strain limit moved held vertices (`moved[v]`,
+    /// [`crate::physics::strain_limit`]; module doc, "Paper does not stretch"): a hand whose
+    /// handle vertices moved slips by their mean move, rigidly (its grip keeps its shape), and
+    /// a moved held neighbour slides out of the grip. The slip counts as the hand's last one
+    /// for [`GestureRig::apply_slip`]'s swing damping. Returns true if any held vertex moved.
+    pub fn regrip(&mut self, pos: &[V3], moved: &[bool]) -> bool {
+        let mut shift = [V3::zeros(); NUM_HANDS];
+        let mut count = [0u32; NUM_HANDS];
+        let mut any = false;
+        for &(v, k, j) in &self.ownership {
+            if !moved.get(v as usize).copied().unwrap_or(false) {
+                continue;
+            }
+            any = true;
+            let h = &mut self.state.hands[k as usize];
+            if j < self.info[k as usize].def.num_mains {
+                shift[k as usize] += pos[v as usize] - h.held_position(j as usize, 1.0);
+                count[k as usize] += 1;
+            } else {
+                h.mask &= !(1u16 << j);
+                self.ownership_dirty = true;
+            }
+        }
+        for (k, h) in self.state.hands.iter_mut().enumerate() {
+            if count[k] > 0 {
+                let d = shift[k] / f64::from(count[k]);
+                let n = d.norm();
+                if n > 0.0 && n.is_finite() {
+                    h.pose = Pose::new(h.pose.pos() + d, h.pose.rotation());
+                    h.slipping = true;
+                    // A give of the grip against this slip is a swing between the two.
+                    h.slip_dir = (d / n).into();
+                }
             }
         }
         any
@@ -1105,9 +1171,10 @@ mod tests {
         }
     }
 
-    /// A hand whose held vertices' triangles are strained beyond STRAIN_GIVE gives way along
-    /// the sheet's pull even when the pull is within its grip; a held neighbour strained beyond
-    /// STRAIN_RELEASE slides out of the grip; below both the hand holds.
+    /// A still hand whose held vertices' triangles are strained beyond STRAIN_GIVE_STILL gives
+    /// way along the sheet's pull even when the pull is within its grip, and goes on giving
+    /// beyond STRAIN_GIVE while it slides; a held neighbour strained beyond STRAIN_RELEASE
+    /// slides out of the grip; below these the hand holds.
     #[test]
     fn a_strained_grip_gives_way_and_lets_go_of_the_torn_vertex() {
         let (sheet, mut rig, obs, mut rng) = setup();
@@ -1132,15 +1199,31 @@ mod tests {
             "holds unstrained"
         );
         let held = rig.hand_def(0).vertices[..rig.hand_def(0).num_vertices as usize].to_vec();
-        for &v in &held {
-            strain[v as usize] = 0.06;
-        }
+        let strain_all = |strain: &mut Vec<f64>, s: f64| {
+            for &v in &held {
+                strain[v as usize] = s;
+            }
+        };
+        // Still fingers hold beyond STRAIN_GIVE, up to STRAIN_GIVE_STILL.
+        strain_all(&mut strain, 0.05);
+        assert!(
+            !rig.apply_slip(&forces, &strain, 0.033, 1.0, &obs),
+            "a still hand holds at 5 %"
+        );
+        strain_all(&mut strain, 0.08);
         assert!(rig.apply_slip(&forces, &strain, 0.033, 1.0, &obs));
         let (_, after) = targets(&rig, &sheet);
         let shift = mean_shift(&before, &after, &fixed);
         assert!(
-            (shift.y - 0.02 * 0.033).abs() < 1e-9 && shift.x.abs() < 1e-12,
+            (shift.y - (0.08 - STRAIN_GIVE_STILL) * 0.033).abs() < 1e-9 && shift.x.abs() < 1e-12,
             "gave {shift:?} along the pull"
+        );
+        // Sliding, they hold to STRAIN_GIVE only.
+        run(&mut rig, &sheet, &obs, &mut rng, 1);
+        strain_all(&mut strain, 0.05);
+        assert!(
+            rig.apply_slip(&forces, &strain, 0.033, 1.0, &obs),
+            "a sliding hand gives at 5 %"
         );
         // A neighbour (not a handle vertex) torn beyond STRAIN_RELEASE slides out.
         let nm = rig.hand_def(0).num_mains as usize;

@@ -312,6 +312,11 @@ pub struct HandState {
     /// with 1.
     #[serde(default = "full_slip_gain")]
     pub slip_gain: f64,
+    /// The hand gave way in the last frame: its fingers slide, and sliding fingers hold less
+    /// than still ones (kinetic against static friction, `GestureRig::apply_slip`). Saves
+    /// from before it load as still.
+    #[serde(default)]
+    pub sliding: bool,
 }
 
 fn full_slip_gain() -> f64 {
@@ -362,6 +367,7 @@ impl HandState {
             yielded_to: None,
             slip_dir: [0.0; 3],
             slip_gain: 1.0,
+            sliding: false,
         }
     }
 
@@ -429,6 +435,12 @@ impl HandState {
     pub fn reanchor(&mut self, def: &HandDef, pos: &[V3]) {
         let s = Self::grab(def, pos, self.speed_m_s);
         *self = s;
+    }
+
+    /// True if the hand has not moved in the current frame (within [`SAME_POSE_M`] and
+    /// [`SAME_POSE_RAD`]).
+    pub fn is_still(&self) -> bool {
+        same_pose(&self.prev_pose, &self.pose)
     }
 
     /// Position of held vertex `k` at fraction `s` ∈ [0, 1] of the current frame.

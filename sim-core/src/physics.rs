@@ -41,6 +41,7 @@ pub mod membrane;
 pub mod newton;
 pub mod sheet_contact;
 pub mod sparse;
+pub mod strain_limit;
 
 use crate::collision::{CONTACT_SKIN_M, LaggedContact, Obstacles, penalty_stiffness};
 use crate::material::PaperMaterial;

@@ -24,6 +24,8 @@
 //!    interpolated across the frame, obstacles with their depth limit, friction;
 //! 3. (c) S_G reads its vertex positions from S_P ([`crate::sheet::geometric`]);
 //! 4. (d)–(h) the geometry layer ([`crate::geometry`]), its outputs in [`Sim::geometry`];
+//!    then what is still strained beyond 8 % is projected back (beyond the seeds:
+//!    [`crate::physics::strain_limit`]), the hands regripping the held vertices it moved;
 //! 5. while squeezing, a frame that passed the sheet through itself is undone (below);
 //! 6. contacts (flag, obstacle, slip speed, normal force) and metrics are updated;
 //! 7. the sound analysis ([`crate::sound_analysis`]) turns the frame's curvature flips, new
@@ -97,8 +99,10 @@
 //!
 //! ## Sleeping
 //!
-//! A sheet at rest costs nothing: when no handle moves, no gesture or obstacle is settling and
-//! every vertex is slower than [`SLEEP_SPEED_M_S`] for [`SLEEP_FRAMES`] consecutive frames, the
+//! A sheet at rest costs nothing: when no gesture or obstacle is settling and no vertex moved
+//! faster than [`SLEEP_SPEED_M_S`] over the frame (positions, not velocities: a shape the
+//! solve and the projections after it agree on is at rest) for [`SLEEP_FRAMES`] consecutive
+//! frames, the
 //! velocities are zeroed and the sheet sleeps — `step` then only advances the frame counter
 //! (the work counter [`Sim::work_counter`] does not move). Any command that changes something
 //! wakes it.
@@ -323,6 +327,8 @@ pub struct Sim {
     forces: Vec<V3>,
     /// Largest strain of each vertex's triangles (the hands' give, `GestureRig::apply_slip`).
     vertex_strain: Vec<f64>,
+    /// The strain limit's scratch (physics/strain_limit.rs).
+    strain_limit: crate::physics::strain_limit::StrainLimit,
     contacts: Vec<VertexContact>,
     metrics: MetricsTracker,
     last_metrics: Metrics,
@@ -341,6 +347,8 @@ pub struct Sim {
     proximity: SelfProximity,
     /// S_P positions at the start of the frame (kept while the crumple hands squeeze).
     frame_start_pos: Vec<V3>,
+    /// S_P positions at the start of every awake frame (the sleep test's motion).
+    motion_start_pos: Vec<V3>,
     /// S_P pattern at the start of the frame (kept with `frame_start_pos`): a singular point
     /// placed in a frame that is then undone has moved a vertex in the pattern.
     frame_start_pattern: Vec<V2>,
@@ -430,6 +438,10 @@ impl Sim {
             kin_target: vec![V3::zeros(); n],
             forces: vec![V3::zeros(); n],
             vertex_strain: Vec::with_capacity(mesh_capacity.0),
+            strain_limit: crate::physics::strain_limit::StrainLimit::with_capacity(
+                mesh_capacity.0,
+                mesh_capacity.1,
+            ),
             contacts: vec![VertexContact::default(); n],
             metrics,
             last_metrics: Metrics::default(),
@@ -449,6 +461,7 @@ impl Sim {
                 q
             },
             frame_start_pos: Vec::with_capacity(mesh_capacity.0),
+            motion_start_pos: Vec::with_capacity(mesh_capacity.0),
             frame_start_pattern: Vec::with_capacity(mesh_capacity.0),
             pre_limit_pos: Vec::with_capacity(mesh_capacity.0),
             stalled_pos: Vec::with_capacity(mesh_capacity.0),
@@ -724,6 +737,7 @@ impl Sim {
             return;
         }
         self.frames_simulated += 1;
+        self.motion_start_pos.clone_from(&self.sheet.sp.pos);
         self.stopwatch.start(self.phase_timing);
         self.phase_ns = PhaseTimes::default();
         let dt = 1.0 / self.cfg.frame_rate_hz;
@@ -755,7 +769,7 @@ impl Sim {
         // The gestures (not the sheet's pull on the hands) move the sheet this frame: the
         // isometry step's trigger (geometry/isometry.rs "When it runs").
         let driven = planes_moved || self.obstacles.is_moving() || self.rig.is_moving();
-        let handles_moved = self.rig.advance_frame(
+        self.rig.advance_frame(
             dt,
             frame_scale,
             &self.sheet.sp.pos,
@@ -797,11 +811,10 @@ impl Sim {
         }
         self.physics.age_contact_boosts();
         self.sheet.sg.pull_positions(&self.sheet.sp);
-        let mut slipped = false;
         if self.rig.num_active_hands() > 0 {
             crate::physics::elastic_forces(&self.sheet.sp, &self.params, &mut self.forces);
             crate::metrics::vertex_strains(&self.sheet.sp, &mut self.vertex_strain);
-            slipped = self.rig.apply_slip(
+            self.rig.apply_slip(
                 &self.forces,
                 &self.vertex_strain,
                 self.cfg.mesh.spacing_m(self.cfg.size),
@@ -824,12 +837,29 @@ impl Sim {
         } else {
             self.geometry.idle_frame(self.frame);
         }
+        // Paper does not stretch (physics/strain_limit.rs): what the solve and the isometry
+        // step left strained beyond STRAIN_LIMIT is projected back, held vertices sliding in
+        // their grips.
+        crate::metrics::vertex_strains(&self.sheet.sp, &mut self.vertex_strain);
+        let limited = self.strain_limit.apply(
+            &mut self.sheet.sp,
+            &self.vertex_strain,
+            self.metrics.previous_normals(),
+        );
+        if limited {
+            self.sheet.sg.pull_positions(&self.sheet.sp);
+            self.geometry.sync_positions(&self.sheet.sp);
+            self.rig
+                .regrip(&self.sheet.sp.pos, &self.strain_limit.moved);
+        }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
         let mut relaxed_undone = false;
         self.kept_crossed_start = false;
         if guard {
             // The isometry step may just have swept these very positions for crossings.
-            let checked = self.cfg.geometry.enabled && self.geometry.checked_uncrossed();
+            // (Unless the strain limit moved them since.)
+            let checked =
+                self.cfg.geometry.enabled && self.geometry.checked_uncrossed() && !limited;
             if !checked && self.undo_pass_through(frame_scale) {
                 relaxed_undone = self.relax_undone_start(dt);
                 self.sheet.sg.pull_positions(&self.sheet.sp);
@@ -858,12 +888,25 @@ impl Sim {
         );
         self.phase_ns.analysis_ns = self.stopwatch.lap_ns();
 
-        let quiet = !handles_moved
-            && !slipped
-            && !planes_moved
+        // Quiet: nothing drives the sheet and no vertex moved faster than SLEEP_SPEED_M_S
+        // over the frame. Measured on the positions, not the velocities: where the solve and
+        // the projections after it (obstacles, isometry, strain limit, a hand giving way)
+        // agree on a shape, the sheet stands still whatever velocity the solve reads.
+        let moved_m = if self.motion_start_pos.len() == self.sheet.sp.pos.len() {
+            self.sheet
+                .sp
+                .pos
+                .iter()
+                .zip(&self.motion_start_pos)
+                .map(|(a, b)| (a - b).norm())
+                .fold(0.0, f64::max)
+        } else {
+            f64::INFINITY
+        };
+        let quiet = !planes_moved
             && !self.rig.is_moving()
             && !self.obstacles.is_moving()
-            && self.last_metrics.max_speed_m_s < SLEEP_SPEED_M_S;
+            && moved_m < SLEEP_SPEED_M_S * dt;
         self.quiet_frames = if quiet {
             self.quiet_frames.saturating_add(1)
         } else {
