@@ -53,6 +53,7 @@ pub mod sim;
 pub mod sound_analysis;
 pub mod sound_input;
 pub mod stress;
+pub mod tearing;
 pub mod triangle_distance;
 
 pub use collision::VertexContact;
