@@ -28,6 +28,7 @@ pub mod pattern;
 pub mod physical;
 pub mod refine;
 pub mod topology;
+pub mod unzip;
 pub mod walk;
 
 use crate::control::SheetSize;

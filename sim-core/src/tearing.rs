@@ -6,7 +6,8 @@
 //! by eq. 3.1 ([`tip`]), and the torn edge between the old and the new tip follows a
 //! directed-noise walk over a fibre texture, eq. 3.2 ([`walk`], [`fibres`]). Everything here
 //! lives in pattern space (metres, the sheet's rest plane), where the torn edge is a polyline the
-//! mesh will be cut along (`crate::sheet::cut`).
+//! mesh is cut along ([`crate::sheet::cut`]) and then opened into two lips
+//! ([`crate::sheet::unzip`]).
 //!
 //! **State of the work** (issue 51, "Tearing I"): these are tested building blocks. The sim does
 //! not call them yet: the tear and pull gestures still do not move the sheet, no mesh is cut and
