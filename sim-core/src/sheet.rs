@@ -27,6 +27,7 @@ pub mod measure;
 pub mod pattern;
 pub mod physical;
 pub mod refine;
+pub mod tear_step;
 pub mod topology;
 pub mod unzip;
 pub mod walk;

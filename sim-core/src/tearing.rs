@@ -7,11 +7,11 @@
 //! directed-noise walk over a fibre texture, eq. 3.2 ([`walk`], [`fibres`]). Everything here
 //! lives in pattern space (metres, the sheet's rest plane), where the torn edge is a polyline the
 //! mesh is cut along ([`crate::sheet::cut`]) and then opened into two lips
-//! ([`crate::sheet::unzip`]).
+//! ([`crate::sheet::unzip`]), one tip step at a time ([`crate::sheet::tear_step`]).
 //!
-//! **State of the work** (issue 51, "Tearing I"): these are tested building blocks. The sim does
-//! not call them yet: the tear and pull gestures still do not move the sheet, no mesh is cut and
-//! nothing sounds. What remains is in the issue's note.
+//! **State of the work** (issue 51, "Tearing I"): these and the mesh steps are tested building
+//! blocks. The sim does not call them yet: the tear and pull gestures still do not move the
+//! sheet, the sim's mesh is never torn and nothing sounds. What remains is in the issue's note.
 //!
 //! Decisions, one line each (digest-tearing §1.5–1.6, §1.9; none of these values is in the
 //! seeds):
