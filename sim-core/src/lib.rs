@@ -16,7 +16,8 @@
 //!    the room's obstacles with friction ([`collision`]);
 //! 4. the geometry layer analyses and corrects the sheet ([`geometry`]: compression analysis,
 //!    imaginary rulings, singular vertices and fibre damage, region partition, rulings, cone
-//!    fitting, isometry) and publishes [`geometry::GeometryFrame`];
+//!    fitting, isometry) and publishes [`geometry::GeometryFrame`]; what is still strained
+//!    beyond 8 % is projected back ([`physics::strain_limit`]);
 //! 5. contacts, metrics ([`metrics`]) and per-frame outputs for sound
 //!    ([`sound_input::SoundFrame`]) are written.
 //!
