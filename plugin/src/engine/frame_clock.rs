@@ -12,6 +12,7 @@
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameClock {
     samples_per_frame: f64,
+    frame_rate_hz: f64,
 }
 
 impl FrameClock {
@@ -30,6 +31,7 @@ impl FrameClock {
         };
         Self {
             samples_per_frame: (fs / ff).max(1.0),
+            frame_rate_hz: ff,
         }
     }
 
@@ -41,6 +43,12 @@ impl FrameClock {
     /// One past the last sample of frame `k`: when it is stepped.
     pub fn end(&self, k: u64) -> u64 {
         self.start(k + 1)
+    }
+
+    /// Simulated time at the start of frame `k`, seconds: `k / f_frame`, the same at every
+    /// sample rate (where `start(k) / fs` is rounded to a sample).
+    pub fn time_s(&self, k: u64) -> f64 {
+        k as f64 / self.frame_rate_hz
     }
 
     /// Samples per frame (fractional).

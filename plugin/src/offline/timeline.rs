@@ -9,7 +9,10 @@
 //!   note 36;
 //! - step lanes as parameter changes at their breakpoints; linear and smooth lanes as parameter
 //!   changes at every simulation frame start (the sheet reads gestures once per frame) and at
-//!   their breakpoints, whenever the value changes.
+//!   their breakpoints, whenever the value changes. A frame start's value is the lane's at the
+//!   frame's exact time k / f_frame, not at its rounded sample: at 44.1 kHz a 5 ms frame is
+//!   220.5 samples, and the rounded times gave the sheet other gestures in their last bits, so
+//!   another crumple than at 48 kHz.
 //!
 //! At equal sample positions, parameter changes come before MIDI messages, as in the plugin
 //! (parameters are read at the start of a (sub-)block, then its events are handled).
@@ -122,11 +125,13 @@ impl Timeline {
                     emit(to_sample(*t, sample_rate_hz), v.clone(), &mut self.events);
                 }
             } else {
-                // Frame starts from the lane's start to its end, plus the breakpoints.
-                let mut times: Vec<u64> = lane
+                // Frame starts from the lane's start to its end, each read at its frame's exact
+                // time (the same at every sample rate), plus the breakpoints at theirs; a
+                // breakpoint on a frame start's sample gives way to the frame start.
+                let mut times: Vec<(u64, f64, bool)> = lane
                     .points
                     .iter()
-                    .map(|(t, _)| to_sample(*t, sample_rate_hz))
+                    .map(|(t, _)| (to_sample(*t, sample_rate_hz), *t, false))
                     .collect();
                 let first = to_sample(first_t, sample_rate_hz);
                 let last_s = to_sample(last_t, sample_rate_hz);
@@ -137,14 +142,14 @@ impl Timeline {
                         break;
                     }
                     if s >= first {
-                        times.push(s);
+                        times.push((s, frames.time_s(k), true));
                     }
                     k += 1;
                 }
-                times.sort_unstable();
-                times.dedup();
-                for at in times {
-                    let v = lane.value_at(at as f64 / sample_rate_hz);
+                times.sort_by(|a, b| a.0.cmp(&b.0).then(b.2.cmp(&a.2)));
+                times.dedup_by_key(|x| x.0);
+                for (at, t, _) in times {
+                    let v = lane.value_at(t);
                     emit(at, v, &mut self.events);
                 }
             }
