@@ -1,5 +1,5 @@
 //! One performance, one take at every sample rate: the sheet's timeline does not depend on the
-//! audio rate (`papier::offline::timeline`: a lane is read at each frame's exact time, not at
+//! audio rate, for scenes (scripts) and MIDI performances alike (`papier::offline::timeline`: a lane is read at each frame's exact time, not at
 //! its rounded sample; `papier::engine::FrameClock::time_s`). `papier-render` plays a scene at
 //! several rates; the OBJ sequence (the sheet) and the sound-frame log (every crumple and
 //! friction event with its resonators) must be the same bytes at each.
@@ -11,16 +11,24 @@
 use std::path::Path;
 use std::process::Command;
 
+use papier::gesture_map::MidiInput;
+use papier::offline::midi_file::{TimedMidi, write_smf};
 use papier_tests::paths;
 
 /// The sheet (OBJ files at 25 per second, concatenated) and the frame log without its header
-/// comments, rendered from `scene` at `rate_hz`.
+/// comments, rendered from `scene` (a built-in scene, or a MIDI file's path) at `rate_hz`.
 fn take(dir: &Path, scene: &str, rate_hz: u32) -> (Vec<u8>, String) {
-    let tag = format!("{scene}_{rate_hz}");
+    let name = Path::new(scene).file_stem().unwrap().to_str().unwrap();
+    let tag = format!("{name}_{rate_hz}");
     let objs = dir.join(format!("obj_{tag}"));
     let log = dir.join(format!("{tag}.jsonl"));
+    let input = if scene.ends_with(".mid") {
+        "--midi"
+    } else {
+        "--scene"
+    };
     let out = Command::new(paths::papier_render())
-        .args(["--scene", scene, "--sample-rate", &rate_hz.to_string()])
+        .args([input, scene, "--sample-rate", &rate_hz.to_string()])
         .args(["--out", dir.join(format!("{tag}.wav")).to_str().unwrap()])
         .args(["--obj-dir", objs.to_str().unwrap(), "--obj-fps", "25"])
         .args(["--write-frames", log.to_str().unwrap(), "--quiet"])
@@ -51,7 +59,8 @@ fn take(dir: &Path, scene: &str, rate_hz: u32) -> (Vec<u8>, String) {
 }
 
 fn same_at_every_rate(scenes: &[&str], rates: &[u32]) {
-    let dir = tempfile_dir();
+    let dir = tempfile_dir().join("renders");
+    std::fs::create_dir_all(&dir).unwrap();
     for scene in scenes {
         let (sheet, events) = take(&dir, scene, 48_000);
         assert!(events.contains("crumple") || events.contains("friction"));
@@ -85,6 +94,88 @@ fn tempfile_dir() -> std::path::PathBuf {
 fn the_crumples_are_the_same_sheet_and_events_at_every_rate() {
     same_at_every_rate(
         &["s4_crumple", "c5_full_crumple"],
+        &[
+            22_050, 32_000, 44_100, 48_000, 88_200, 96_000, 176_400, 192_000,
+        ],
+    );
+}
+
+/// A MIDI performance (README map: grabs on notes, gesture CCs ramped, a reset, a crumple) at
+/// the eight rates, its events off the frame boundaries as a player's are.
+#[test]
+fn a_midi_performance_is_the_same_sheet_and_events_at_every_rate() {
+    let dir = tempfile_dir();
+    let mut ev = Vec::new();
+    let mut at = |t: f64, input| ev.push(TimedMidi { time_s: t, input });
+    at(
+        0.2013,
+        MidiInput::NoteOn {
+            key: 48,
+            velocity: 0.9,
+        },
+    );
+    at(
+        0.3377,
+        MidiInput::NoteOn {
+            key: 50,
+            velocity: 0.7,
+        },
+    );
+    for i in 0..=30 {
+        let t = 0.5 + i as f64 * 0.0371;
+        at(
+            t,
+            MidiInput::Cc {
+                cc: 21,
+                value: i as f32 / 30.0 * 0.6,
+            },
+        );
+        at(
+            t + 0.013,
+            MidiInput::Cc {
+                cc: 22,
+                value: i as f32 / 30.0 * 0.5,
+            },
+        );
+    }
+    at(1.9, MidiInput::NoteOff { key: 48 });
+    at(
+        2.1,
+        MidiInput::NoteOn {
+            key: 55,
+            velocity: 1.0,
+        },
+    );
+    for i in 0..=20 {
+        let t = 2.2 + i as f64 * 0.0433;
+        at(
+            t,
+            MidiInput::Cc {
+                cc: 20,
+                value: i as f32 / 20.0 * 0.8,
+            },
+        );
+    }
+    at(
+        3.4,
+        MidiInput::NoteOn {
+            key: 36,
+            velocity: 1.0,
+        },
+    );
+    at(
+        3.6,
+        MidiInput::NoteOn {
+            key: 50,
+            velocity: 0.5,
+        },
+    );
+    at(3.8, MidiInput::Cc { cc: 24, value: 0.6 });
+    at(3.8, MidiInput::Cc { cc: 25, value: 0.5 });
+    let midi = dir.join("performance.mid");
+    std::fs::write(&midi, write_smf(&ev, 4.5)).unwrap();
+    same_at_every_rate(
+        &[midi.to_str().unwrap()],
         &[
             22_050, 32_000, 44_100, 48_000, 88_200, 96_000, 176_400, 192_000,
         ],

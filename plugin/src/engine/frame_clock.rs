@@ -51,6 +51,19 @@ impl FrameClock {
         k as f64 / self.frame_rate_hz
     }
 
+    /// The sample at which an input stamped `t_s` seconds is given: its own sample rounded,
+    /// kept within the span of the frame its time falls in (frame ⌊t · f_frame⌋: a time on a
+    /// boundary belongs to the frame it starts), so that at every sample rate the input reaches
+    /// the same frame (rounding to the sample alone moved an input within half a sample of a
+    /// boundary to the other frame at some rates). It moves by at most 1.5 samples.
+    pub fn input_sample(&self, t_s: f64, sample_rate_hz: f64) -> u64 {
+        let t = if t_s.is_finite() { t_s.max(0.0) } else { 0.0 };
+        // The epsilon puts a time written as a boundary (0.2 s) on it despite its binary error.
+        let k = (t * self.frame_rate_hz + 1e-9).floor() as u64;
+        let s = (t * sample_rate_hz).round() as u64;
+        s.clamp(self.start(k), self.end(k) - 1)
+    }
+
     /// Samples per frame (fractional).
     pub fn samples_per_frame(&self) -> f64 {
         self.samples_per_frame
@@ -77,6 +90,34 @@ mod tests {
             let expect = (10_000.0 * fs / 200.0_f64).round() as u64;
             assert_eq!(total, expect);
         }
+    }
+
+    #[test]
+    fn an_input_reaches_the_same_frame_at_every_rate() {
+        let rates = [
+            8_000.0, 22_050.0, 32_000.0, 44_100.0, 48_000.0, 88_200.0, 96_000.0, 192_000.0,
+        ];
+        for i in 0..20_000 {
+            // Times all over, many within a sample of a frame boundary.
+            let t = i as f64 * 0.000_613_7 + if i % 3 == 0 { 1e-6 } else { 0.0 };
+            let k = (t * 200.0 + 1e-9).floor() as u64;
+            for fs in rates {
+                let c = FrameClock::new(fs, 200.0);
+                let s = c.input_sample(t, fs);
+                assert!(
+                    c.start(k) <= s && s < c.end(k),
+                    "t {t} at {fs} Hz: sample {s}"
+                );
+                // Half a sample of rounding, and the frame's own start rounded by as much.
+                assert!(
+                    (s as f64 - t * fs).abs() <= 1.5,
+                    "t {t} moved to {s} at {fs} Hz"
+                );
+            }
+        }
+        let c = FrameClock::new(44_100.0, 200.0);
+        assert_eq!(c.input_sample(0.2, 44_100.0), c.start(40));
+        assert_eq!(c.input_sample(f64::NAN, 44_100.0), 0);
     }
 
     #[test]

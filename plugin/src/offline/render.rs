@@ -65,7 +65,7 @@ pub(super) fn read_inputs(
             InputSpec::Midi(p) => {
                 let f = MidiFile::from_file(p)
                     .map_err(|e| OfflineError::Input(format!("--midi {}: {e}", p.display())))?;
-                tl.add_midi(&f, sr);
+                tl.add_midi(&f, sr, frames);
             }
             InputSpec::Script(p) => {
                 let s = Script::from_file(p)

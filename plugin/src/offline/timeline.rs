@@ -3,7 +3,8 @@
 //! `papier-render` plays its inputs the way a host plays a track: parameter changes
 //! (automation) and MIDI messages at sample positions. This module turns MIDI files, scripts and
 //! scenes into one sorted list of such events:
-//! - MIDI messages at their times;
+//! - MIDI messages at their times (every input's sample is kept within the frame its time falls
+//!   in, `FrameClock::input_sample`, so it reaches the same frame at every sample rate);
 //! - a script's `[set]` values at t = 0 (the initial parameter state);
 //! - grabs as the MIDI notes of the README's map (note on with the velocity, note off), resets as
 //!   note 36;
@@ -48,16 +49,12 @@ pub struct Timeline {
     pub length_s: f64,
 }
 
-fn to_sample(t_s: f64, sample_rate_hz: f64) -> u64 {
-    (t_s.max(0.0) * sample_rate_hz).round() as u64
-}
-
 impl Timeline {
     /// Adds a MIDI file (its length plus a 1 s tail for ringing sounds).
-    pub fn add_midi(&mut self, f: &MidiFile, sample_rate_hz: f64) {
+    pub fn add_midi(&mut self, f: &MidiFile, sample_rate_hz: f64, frames: FrameClock) {
         for e in &f.events {
             self.events.push((
-                to_sample(e.time_s, sample_rate_hz),
+                frames.input_sample(e.time_s, sample_rate_hz),
                 HostEvent::Midi(e.input),
             ));
         }
@@ -88,7 +85,7 @@ impl Timeline {
             }
         }
         for (t, d) in s.discrete_inputs() {
-            let at = to_sample(t, sample_rate_hz);
+            let at = frames.input_sample(t, sample_rate_hz);
             let input = match d {
                 DiscreteInput::Reset => MidiInput::NoteOn {
                     key: NOTE_RESET,
@@ -122,7 +119,11 @@ impl Timeline {
             };
             if lane.is_stepwise() {
                 for (t, v) in &lane.points {
-                    emit(to_sample(*t, sample_rate_hz), v.clone(), &mut self.events);
+                    emit(
+                        frames.input_sample(*t, sample_rate_hz),
+                        v.clone(),
+                        &mut self.events,
+                    );
                 }
             } else {
                 // Frame starts from the lane's start to its end, each read at its frame's exact
@@ -131,10 +132,10 @@ impl Timeline {
                 let mut times: Vec<(u64, f64, bool)> = lane
                     .points
                     .iter()
-                    .map(|(t, _)| (to_sample(*t, sample_rate_hz), *t, false))
+                    .map(|(t, _)| (frames.input_sample(*t, sample_rate_hz), *t, false))
                     .collect();
-                let first = to_sample(first_t, sample_rate_hz);
-                let last_s = to_sample(last_t, sample_rate_hz);
+                let first = frames.input_sample(first_t, sample_rate_hz);
+                let last_s = frames.input_sample(last_t, sample_rate_hz);
                 let mut k = (first as f64 / frames.samples_per_frame()).floor() as u64;
                 loop {
                     let s = frames.start(k);
