@@ -122,8 +122,8 @@ pub const XY_PAD_PX: f32 = 150.0;
 /// Size of the grab pad diagram, logical pixels.
 pub const GRAB_PAD_PX: [f32; 2] = [130.0, 150.0];
 /// Hover text of the gestures that have no effect yet ([`GestureParam::moves_the_sheet`]).
-const NOT_YET: &str = "No effect yet: tearing is not simulated in this build. The value is kept \
-                       (automation, saved projects) for a build that tears.";
+const NOT_YET: &str = "No effect yet: pulling the sheet apart is not simulated in this build (the \
+                       tear gestures are). The value is kept (automation, saved projects).";
 
 /// Everything of the plugin the editor may touch (see the module docs).
 #[derive(Clone)]

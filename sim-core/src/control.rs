@@ -277,18 +277,15 @@ impl GestureParam {
         }
     }
 
-    /// False for the tear and pull gestures: stored (parameters, automation, saved projects)
-    /// but without effect on the sheet in this build — tearing is a later issue
-    /// (`gesture_rig.rs`, "Rate limits"). The editor marks them so (tested in `sim.rs`:
-    /// changing one of them leaves the sheet bit-identical, changing any other moves it).
+    /// False for the pull gestures: stored (parameters, automation, saved projects) but
+    /// without effect on the sheet in this build (the general tearing criterion is a later
+    /// step of Tearing I). The editor marks them so (tested in `sim.rs`: changing one of them
+    /// leaves the sheet bit-identical, changing any other moves it; the tear's steer and place
+    /// move it once the tear runs).
     pub const fn moves_the_sheet(self) -> bool {
         !matches!(
             self,
-            GestureParam::TearAmount
-                | GestureParam::TearSteer
-                | GestureParam::TearPosition
-                | GestureParam::PullSeparation
-                | GestureParam::PullAsymmetry
+            GestureParam::PullSeparation | GestureParam::PullAsymmetry
         )
     }
 

@@ -611,6 +611,8 @@ impl GestureRig {
             }
             GestureParam::Crumple => self.crumple_rate(clamp_m),
             GestureParam::ShakeDepth => clamp_m / (SHAKE_AMPLITUDE_FRAC * l),
+            // The hands' rotation (radians) that tears (sim/tear.rs).
+            GestureParam::TearAmount => max_angle,
             _ => f64::INFINITY,
         }
     }

@@ -123,6 +123,7 @@ mod phase_times;
 mod remesh;
 mod saved;
 mod substep;
+pub mod tear;
 mod undo;
 
 pub use phase_times::PhaseTimes;
@@ -384,6 +385,8 @@ pub struct Sim {
     phase_timing: bool,
     stopwatch: Stopwatch,
     phase_ns: PhaseTimes,
+    /// The tear (sim/tear.rs).
+    tear: tear::TearProgress,
 }
 
 impl Sim {
@@ -479,6 +482,7 @@ impl Sim {
             phase_timing: false,
             stopwatch: Stopwatch::default(),
             phase_ns: PhaseTimes::default(),
+            tear: tear::TearProgress::default(),
             cfg,
             frame: 0,
             sheet,
@@ -591,11 +595,14 @@ impl Sim {
     }
 
     /// True if the next [`Self::step`] starts by inserting an S_P vertex for a singular point
-    /// drawn in the last frame or by flipping a compressed edge found then (sim/remesh.rs):
+    /// drawn in the last frame, by flipping a compressed edge found then (sim/remesh.rs) or by
+    /// tearing the mesh further (sim/tear.rs):
     /// that step allocates (a new mesh), every other step does not. A host that steps the
     /// sheet on its audio thread permits it there.
     pub fn refinement_pending(&self) -> bool {
-        self.geometry.pending_singular().is_some() || self.geometry.pending_flip().is_some()
+        self.geometry.pending_singular().is_some()
+            || self.geometry.pending_flip().is_some()
+            || self.tear.pending
     }
 
     /// S_P vertices inserted at singular points' drawn positions into the current sheet (since
@@ -655,6 +662,8 @@ impl Sim {
         }
         self.rig
             .rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
+        // A whole sheet: it tears again when the amount rises past its value now (sim/tear.rs).
+        self.tear.theta_max_rad = self.rig.state.smoothed[GestureParam::TearAmount.index()];
         self.wake();
     }
 
@@ -731,6 +740,7 @@ impl Sim {
         if let Some(p) = self.geometry.take_pending_singular() {
             self.place_pending_singular(&p);
         }
+        self.apply_pending_tear();
         if self.asleep {
             self.geometry.idle_frame(self.frame);
             out.stats = self.stats(true, 0, 0, 0);
@@ -886,6 +896,7 @@ impl Sim {
             },
             &mut out.sound,
         );
+        self.tear_frame(dt, &mut out.sound);
         self.phase_ns.analysis_ns = self.stopwatch.lap_ns();
 
         // Quiet: nothing drives the sheet and no vertex moved faster than SLEEP_SPEED_M_S
@@ -904,6 +915,7 @@ impl Sim {
             f64::INFINITY
         };
         let quiet = !planes_moved
+            && !self.tear.pending
             && !self.rig.is_moving()
             && !self.obstacles.is_moving()
             && moved_m < SLEEP_SPEED_M_S * dt;
@@ -1044,6 +1056,7 @@ impl Sim {
             contact_boosts: self.physics.contact_boosts().to_vec(),
             hand_defs: self.rig.hand_defs_state(),
             sound_history: Some(self.analysis.save_history()),
+            tear: self.tear,
         }
     }
 
@@ -1136,6 +1149,11 @@ impl Sim {
         sim.physics
             .set_contact_boosts(&saved.contact_boosts, sim.sheet.sp.num_vertices())
             .map_err(RestoreError::Invalid)?;
+        saved
+            .tear
+            .validate(sim.sheet.sp.num_vertices())
+            .map_err(RestoreError::Invalid)?;
+        sim.tear = saved.tear;
         sim.metrics.reset_normals(&sim.sheet.sp);
         sim.update_contacts();
         sim.last_metrics = sim.metrics.compute(&sim.sheet.sp);
@@ -1208,8 +1226,9 @@ mod tests {
     }
 
     /// [`GestureParam::moves_the_sheet`] says what the gestures do: from a sheet held by its
-    /// front edge and shaking, setting a gesture to a value other than its default moves the
-    /// sheet, except the tear and pull gestures, which leave it bit-identical.
+    /// front edge and shaking (and torn a little, for the tear's steer and place), setting a
+    /// gesture to a value other than its default moves the sheet, except the pull gestures,
+    /// which leave it bit-identical.
     #[test]
     fn only_the_gestures_that_move_the_sheet_change_it() {
         let play = |change: Option<GestureParam>| {
@@ -1223,6 +1242,16 @@ mod tests {
                 param: GestureParam::ShakeDepth,
                 value: 0.3,
             });
+            let steers_a_tear = matches!(
+                change,
+                Some(GestureParam::TearSteer | GestureParam::TearPosition)
+            );
+            if steers_a_tear {
+                sim.apply(Command::Gesture {
+                    param: GestureParam::TearAmount,
+                    value: 0.2,
+                });
+            }
             if let Some(g) = change {
                 let (lo, hi) = g.range();
                 let value = if g == GestureParam::ShakeDepth {
@@ -1236,11 +1265,33 @@ mod tests {
             for _ in 0..60 {
                 sim.step(&mut out);
             }
+            (crate::scenario_run::state_hash(&sim), steers_a_tear)
+        };
+        let base = play(None).0;
+        // The same tear with the steer and place at their defaults.
+        let torn = {
+            let mut sim = Sim::new(SimConfig::default());
+            let mut out = FrameOutput::default();
+            sim.apply(Command::Grab {
+                slot: GrabSlot::Front,
+                grip: 1.0,
+            });
+            for (param, value) in [
+                (GestureParam::ShakeDepth, 0.3),
+                (GestureParam::TearAmount, 0.2),
+            ] {
+                sim.apply(Command::Gesture { param, value });
+            }
+            for _ in 0..60 {
+                sim.step(&mut out);
+            }
             crate::scenario_run::state_hash(&sim)
         };
-        let base = play(None);
+        assert_ne!(torn, base, "tear_amount moves the sheet");
         for g in GestureParam::ALL {
-            assert_eq!(play(Some(g)) != base, g.moves_the_sheet(), "{}", g.id());
+            let (h, steers) = play(Some(g));
+            let reference = if steers { torn } else { base };
+            assert_eq!(h != reference, g.moves_the_sheet(), "{}", g.id());
         }
     }
 

@@ -89,6 +89,8 @@ pub struct TearState {
     pub speed_m_s: f32,
     /// Tip position, world metres.
     pub tip_m: [f32; 3],
+    /// Length torn so far, metres (0 before a tear; never decreases until a reset).
+    pub length_m: f32,
 }
 
 /// One frame of sound input, fixed capacity, no heap data.

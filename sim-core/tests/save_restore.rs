@@ -77,6 +77,9 @@ fn a_restored_sheet_saves_back_what_it_was_saved_as() {
             // Saved before the sound history was kept: it starts afresh.
             back.sound_history = None;
         }
+        // Saved by an older version (untorn): it saves back as today's version.
+        assert_eq!(back.version, sim_core::sim::SAVED_SHEET_VERSION);
+        back.version = fixture.sheet.version;
         let (a, b) = (
             fixture.sheet.geometry.as_ref().unwrap(),
             back.geometry.as_ref().unwrap(),

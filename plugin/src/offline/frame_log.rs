@@ -129,6 +129,13 @@ pub struct TearRecord {
     /// Tip position, m.
     #[serde(default)]
     pub tip_m: [f32; 3],
+    /// Length torn so far, m (absent while nothing is torn).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub length_m: f32,
+}
+
+fn is_zero(x: &f32) -> bool {
+    *x == 0.0
 }
 
 /// One line of a frame log.
@@ -232,6 +239,7 @@ impl From<&SoundFrame> for FrameRecord {
             tear: TearRecord {
                 speed_m_s: f.tear.speed_m_s,
                 tip_m: f.tear.tip_m,
+                length_m: f.tear.length_m,
             },
             dropped_crumple: f.dropped_crumple,
             dropped_friction: f.dropped_friction,
@@ -304,6 +312,7 @@ impl FrameRecord {
         f.tear = TearState {
             speed_m_s: self.tear.speed_m_s,
             tip_m: self.tear.tip_m,
+            length_m: self.tear.length_m,
         };
         f.dropped_crumple = self.dropped_crumple;
         f.dropped_friction = self.dropped_friction;
@@ -459,6 +468,7 @@ mod tests {
         f.tear = TearState {
             speed_m_s: 0.05,
             tip_m: [0.1, 0.0, 0.75],
+            length_m: 0.02,
         };
         f
     }

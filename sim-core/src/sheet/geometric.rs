@@ -87,8 +87,9 @@ pub struct GeomStructure {
     /// The persistent vertices: corners, boundary samples and interior singular vertices
     /// (appended in creation order, never removed).
     pub vertices: Vec<GVertex>,
-    /// The boundary loop ∂S̄ (S_G vertex indices, counter-clockwise).
-    pub boundary_loop: Vec<u32>,
+    /// The boundary loops ∂S̄ (S_G vertex indices, counter-clockwise), one per piece of the
+    /// sheet: one until a tear separates it ([`crate::tearing`]).
+    pub boundary_loops: Vec<Vec<u32>>,
 }
 
 /// Target number of S_G boundary samples of a new sheet (T 1130: 12 for the 10 cm square).
@@ -101,46 +102,58 @@ impl GeomStructure {
     /// [`INITIAL_BOUNDARY_SAMPLES`] of them spread by arc length, always including the four
     /// corners (vertices where the boundary turns).
     pub fn initial(sp: &PhysMesh) -> Self {
-        let loop_sp = boundary_loop(sp);
-        let n = loop_sp.len();
-        let mut perimeter = 0.0;
-        let mut s_of = Vec::with_capacity(n);
-        for i in 0..n {
-            s_of.push(perimeter);
-            let a = sp.pattern[loop_sp[i] as usize];
-            let b = sp.pattern[loop_sp[(i + 1) % n] as usize];
-            perimeter += (b - a).norm();
-        }
-        let spacing = perimeter / INITIAL_BOUNDARY_SAMPLES as f64;
+        let loops = boundary_loops(sp);
+        let loop_length = |lp: &[u32]| {
+            let n = lp.len();
+            (0..n)
+                .map(|i| (sp.pattern[lp[(i + 1) % n] as usize] - sp.pattern[lp[i] as usize]).norm())
+                .sum::<f64>()
+        };
+        // One spacing for every piece: a torn-off piece is sampled as densely as the sheet.
+        let spacing =
+            loops.first().map_or(0.0, |lp| loop_length(lp)) / INITIAL_BOUNDARY_SAMPLES as f64;
         let mut vertices = Vec::new();
-        let mut last_s = f64::NEG_INFINITY;
-        for i in 0..n {
-            let prev = sp.pattern[loop_sp[(i + n - 1) % n] as usize];
-            let cur = sp.pattern[loop_sp[i] as usize];
-            let next = sp.pattern[loop_sp[(i + 1) % n] as usize];
-            let turn = signed_area(prev, cur, next).abs();
-            let corner = turn > 1e-12 * perimeter * perimeter;
-            let far_enough =
-                s_of[i] - last_s >= 0.999 * spacing && perimeter - s_of[i] >= 0.5 * spacing;
-            if corner || far_enough {
-                vertices.push(GVertex {
-                    p2: cur,
-                    p3: sp.pos[loop_sp[i] as usize],
-                    kind: if corner {
-                        VKind::Corner
-                    } else {
-                        VKind::Boundary
-                    },
-                    bound_s_m: Some(s_of[i]),
-                    sp_index: loop_sp[i],
-                });
-                last_s = s_of[i];
+        let mut boundary_loops = Vec::with_capacity(loops.len());
+        for loop_sp in &loops {
+            let n = loop_sp.len();
+            let first = vertices.len() as u32;
+            let mut perimeter = 0.0;
+            let mut s_of = Vec::with_capacity(n);
+            for i in 0..n {
+                s_of.push(perimeter);
+                let a = sp.pattern[loop_sp[i] as usize];
+                let b = sp.pattern[loop_sp[(i + 1) % n] as usize];
+                perimeter += (b - a).norm();
             }
+            let mut last_s = f64::NEG_INFINITY;
+            for i in 0..n {
+                let prev = sp.pattern[loop_sp[(i + n - 1) % n] as usize];
+                let cur = sp.pattern[loop_sp[i] as usize];
+                let next = sp.pattern[loop_sp[(i + 1) % n] as usize];
+                let turn = signed_area(prev, cur, next).abs();
+                let corner = turn > 1e-12 * perimeter * perimeter;
+                let far_enough =
+                    s_of[i] - last_s >= 0.999 * spacing && perimeter - s_of[i] >= 0.5 * spacing;
+                if corner || far_enough {
+                    vertices.push(GVertex {
+                        p2: cur,
+                        p3: sp.pos[loop_sp[i] as usize],
+                        kind: if corner {
+                            VKind::Corner
+                        } else {
+                            VKind::Boundary
+                        },
+                        bound_s_m: Some(s_of[i]),
+                        sp_index: loop_sp[i],
+                    });
+                    last_s = s_of[i];
+                }
+            }
+            boundary_loops.push((first..vertices.len() as u32).collect());
         }
-        let boundary_loop: Vec<u32> = (0..vertices.len() as u32).collect();
         Self {
             vertices,
-            boundary_loop,
+            boundary_loops,
         }
     }
 
@@ -160,9 +173,10 @@ impl GeomStructure {
             .count()
     }
 
-    /// Checks the structure against S_P: S_G ⊂ S_P with matching pattern positions, four
-    /// corners, a boundary loop over boundary vertices that encloses the pattern's area
-    /// counter-clockwise, and interior singular vertices off the boundary.
+    /// Checks the structure against S_P: S_G ⊂ S_P with matching pattern positions, at least
+    /// three corners per boundary loop, boundary loops over boundary vertices that together
+    /// enclose the pattern's area counter-clockwise, and interior singular vertices off the
+    /// boundary.
     pub fn validate(&self, sp: &PhysMesh) -> Result<(), String> {
         let nv = self.vertices.len() as u32;
         for (i, v) in self.vertices.iter().enumerate() {
@@ -190,28 +204,31 @@ impl GeomStructure {
                 _ => {}
             }
         }
-        let corners = self
-            .vertices
-            .iter()
-            .filter(|v| v.kind == VKind::Corner)
-            .count();
-        if corners != 4 {
-            return Err(format!("{corners} corners, want 4"));
-        }
         let mut area = 0.0;
-        let n = self.boundary_loop.len();
-        for k in 0..n {
-            let (a, b) = (self.boundary_loop[k], self.boundary_loop[(k + 1) % n]);
-            if a >= nv || b >= nv {
-                return Err("boundary loop index out of range".into());
+        for lp in &self.boundary_loops {
+            let n = lp.len();
+            let mut corners = 0;
+            for k in 0..n {
+                let (a, b) = (lp[k], lp[(k + 1) % n]);
+                if a >= nv || b >= nv {
+                    return Err("boundary loop index out of range".into());
+                }
+                corners += usize::from(self.vertices[a as usize].kind == VKind::Corner);
+                let (pa, pb) = (self.vertices[a as usize].p2, self.vertices[b as usize].p2);
+                area += 0.5 * pa.perp(&pb);
             }
-            let (pa, pb) = (self.vertices[a as usize].p2, self.vertices[b as usize].p2);
-            area += 0.5 * pa.perp(&pb);
+            // A rectangle has 4; a piece torn off a corner has 3 (its corner and the tear's ends).
+            if corners < 3 {
+                return Err(format!("a boundary loop with {corners} corners, want ≥ 3"));
+            }
+        }
+        if self.boundary_loops.is_empty() {
+            return Err("no boundary loop".into());
         }
         let sp_area: f64 = sp.tri_rest.iter().map(|t| t.area_m2).sum();
         if (area - sp_area).abs() > 1e-9 * sp_area.max(1e-12) {
             return Err(format!(
-                "the boundary loop encloses {area} m², the sheet is {sp_area} m²"
+                "the boundary loops enclose {area} m², the sheet is {sp_area} m²"
             ));
         }
         Ok(())
@@ -219,20 +236,39 @@ impl GeomStructure {
 }
 
 /// The S_P boundary as a counter-clockwise vertex loop, starting at the vertex with the
-/// smallest (y, x) pattern position (the front-left corner of a rectangle).
+/// smallest (y, x) pattern position (the front-left corner of a rectangle); on a torn sheet,
+/// the loop through that vertex ([`boundary_loops`] has them all).
 pub fn boundary_loop(sp: &PhysMesh) -> Vec<u32> {
+    let mut visited = vec![false; sp.num_vertices()];
+    next_boundary_loop(sp, &mut visited).unwrap_or_default()
+}
+
+/// Every S_P boundary loop (counter-clockwise), each starting at its vertex with the smallest
+/// (y, x) pattern position, in the order of those vertices: one per piece (a tear's slit is
+/// part of its piece's loop).
+pub fn boundary_loops(sp: &PhysMesh) -> Vec<Vec<u32>> {
+    let mut visited = vec![false; sp.num_vertices()];
+    let mut out = Vec::new();
+    while let Some(lp) = next_boundary_loop(sp, &mut visited) {
+        out.push(lp);
+    }
+    out
+}
+
+/// The loop through the unvisited boundary vertex with the smallest (y, x) pattern position.
+fn next_boundary_loop(sp: &PhysMesh, visited: &mut [bool]) -> Option<Vec<u32>> {
     let topo = &sp.topo;
     let start = (0..sp.num_vertices() as u32)
-        .filter(|&v| topo.vertex_on_boundary[v as usize])
+        .filter(|&v| topo.vertex_on_boundary[v as usize] && !visited[v as usize])
         .min_by(|&a, &b| {
             let (pa, pb) = (sp.pattern[a as usize], sp.pattern[b as usize]);
             pa.y.total_cmp(&pb.y).then(pa.x.total_cmp(&pb.x))
-        })
-        .unwrap_or(0);
+        })?;
     let mut out = Vec::new();
     let mut v = start;
     loop {
         out.push(v);
+        visited[v as usize] = true;
         // The boundary half-edge leaving v (stored preferentially by the topology).
         let h = topo.vertex_he[v as usize];
         if h == NONE || topo.half_edges[h as usize].twin != NONE {
@@ -243,7 +279,7 @@ pub fn boundary_loop(sp: &PhysMesh) -> Vec<u32> {
             break;
         }
     }
-    out
+    Some(out)
 }
 
 #[cfg(test)]

@@ -62,6 +62,28 @@ pub enum TearError {
     Unzip(#[from] UnzipError),
 }
 
+/// Drops the chain's ends that run along the border (crossings snapped to neighbouring border
+/// vertices): a tear enters the sheet at the last border vertex before the inside and leaves
+/// it at the first one after.
+fn trim_along_border(mesh: &PhysMesh, chain: &mut Vec<u32>) {
+    let topo = &mesh.topo;
+    let along_border = |a: u32, b: u32| {
+        topo.find_edge(a, b)
+            .is_some_and(|e| topo.edges[e as usize].is_boundary())
+    };
+    let lead = chain
+        .windows(2)
+        .take_while(|w| along_border(w[0], w[1]))
+        .count();
+    chain.drain(..lead);
+    let trail = chain
+        .windows(2)
+        .rev()
+        .take_while(|w| along_border(w[0], w[1]))
+        .count();
+    chain.truncate(chain.len() - trail);
+}
+
 /// How far inside the sheet the segment's walk starts, as a fraction of the step.
 const START_INSIDE_FRAC: f64 = 1e-3;
 
@@ -127,6 +149,7 @@ pub fn advance_tear(sp: &PhysMesh, from: TearFrom, to: V2) -> Result<TearStep, T
     {
         chain.insert(0, v);
     }
+    trim_along_border(&mesh, &mut chain);
     let opened = unzip(&mesh, &chain)?;
     let tip = *chain.last().ok_or(TearError::TooShort)?;
     Ok(TearStep {
@@ -145,33 +168,6 @@ mod tests {
 
     fn flat(size: SheetSize) -> Sheet {
         Sheet::new_flat(size, MeshConfig::default(), 0.0, 0.08)
-    }
-
-    /// Number of pieces (triangles joined by edges).
-    fn pieces(sp: &PhysMesh) -> usize {
-        let nt = sp.triangles.len();
-        let mut seen = vec![false; nt];
-        let mut n = 0;
-        for s in 0..nt {
-            if seen[s] {
-                continue;
-            }
-            n += 1;
-            seen[s] = true;
-            let mut stack = vec![s];
-            while let Some(t) = stack.pop() {
-                for k in 0..3 {
-                    for &he in &sp.topo.edges[sp.topo.he_edge[3 * t + k] as usize].he {
-                        let u = (he / 3) as usize;
-                        if he != crate::sheet::topology::NONE && !seen[u] {
-                            seen[u] = true;
-                            stack.push(u);
-                        }
-                    }
-                }
-            }
-        }
-        n
     }
 
     /// Torn length: half the pattern length of the boundary edges not on the sheet's outline.
@@ -210,7 +206,7 @@ mod tests {
             from = TearFrom::Tip(st.tip);
             sp = st.mesh;
             out.push(sp.clone());
-            if pieces(&sp) == 2 {
+            if sp.topo.pieces().len() == 2 {
                 break;
             }
         }
@@ -238,9 +234,13 @@ mod tests {
                 assert!((area(sp) - whole).abs() <= 1e-9 * whole);
             }
             let last = meshes.last().unwrap();
-            assert_eq!(pieces(last), 2, "{size:?}: two pieces at the end");
+            assert_eq!(
+                last.topo.pieces().len(),
+                2,
+                "{size:?}: two pieces at the end"
+            );
             for sp in &meshes[..meshes.len() - 1] {
-                assert_eq!(pieces(sp), 1);
+                assert_eq!(sp.topo.pieces().len(), 1);
             }
             let straight = (V2::new(x1, l / 2.0) - V2::new(x0, -l / 2.0)).norm();
             assert!(

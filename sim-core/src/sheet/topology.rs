@@ -265,6 +265,93 @@ impl Topology {
             .map(|i| i as u32)
     }
 
+    /// The connected pieces (triangles sharing an edge), each as its triangles in ascending
+    /// order, the pieces ordered by their first triangle: one until a tear separates the sheet.
+    pub fn pieces(&self) -> Vec<Vec<u32>> {
+        let nt = self.num_triangles();
+        let mut seen = vec![false; nt];
+        let mut out = Vec::new();
+        for start in 0..nt {
+            if seen[start] {
+                continue;
+            }
+            seen[start] = true;
+            let mut stack = vec![start];
+            let mut members = Vec::new();
+            while let Some(t) = stack.pop() {
+                members.push(t as u32);
+                for k in 0..3 {
+                    for &he in &self.edges[self.he_edge[3 * t + k] as usize].he {
+                        let u = (he / 3) as usize;
+                        if he != NONE && !seen[u] {
+                            seen[u] = true;
+                            stack.push(u);
+                        }
+                    }
+                }
+            }
+            members.sort_unstable();
+            out.push(members);
+        }
+        out
+    }
+
+    /// Checks what a torn sheet keeps: every vertex's triangles form one fan (no bow-tie
+    /// vertex) and every piece is a disc (χ = V − E + F = 1). Returns the number of pieces.
+    pub fn validate_pieces(&self) -> Result<usize, String> {
+        let nv = self.num_vertices();
+        let mut incident = vec![0u32; nv];
+        for h in &self.half_edges {
+            incident[h.origin as usize] += 1;
+        }
+        for v in 0..nv {
+            let start = self.vertex_he[v];
+            if start == NONE {
+                continue;
+            }
+            // Around v through the twins from its (boundary-preferred) outgoing half-edge.
+            let (mut h, mut walked) = (start, 0u32);
+            loop {
+                walked += 1;
+                let prev = self.half_edges[self.half_edges[h as usize].next as usize].next;
+                let twin = self.half_edges[prev as usize].twin;
+                if twin == NONE || twin == start || walked > incident[v] {
+                    break;
+                }
+                h = twin;
+            }
+            if walked != incident[v] {
+                return Err(format!(
+                    "vertex {v} has {} triangles, {walked} in one fan",
+                    incident[v]
+                ));
+            }
+        }
+        let pieces = self.pieces();
+        let mut piece_of = vec![0usize; self.num_triangles()];
+        for (k, p) in pieces.iter().enumerate() {
+            for &t in p {
+                piece_of[t as usize] = k;
+            }
+        }
+        let mut chi = vec![0i64; pieces.len()];
+        for (k, p) in pieces.iter().enumerate() {
+            chi[k] += p.len() as i64;
+        }
+        for e in &self.edges {
+            chi[piece_of[(e.he[0] / 3) as usize]] -= 1;
+        }
+        for v in 0..nv {
+            if self.vertex_he[v] != NONE {
+                chi[piece_of[(self.vertex_he[v] / 3) as usize]] += 1;
+            }
+        }
+        if let Some(k) = chi.iter().position(|&c| c != 1) {
+            return Err(format!("piece {k} has χ = {}, not a disc", chi[k]));
+        }
+        Ok(pieces.len())
+    }
+
     /// Euler characteristic V − E + F (1 for a disc-like sheet).
     pub fn euler_characteristic(&self) -> i64 {
         self.num_vertices() as i64 - self.edges.len() as i64 + self.num_triangles() as i64
@@ -345,6 +432,25 @@ mod tests {
         assert_eq!(
             Topology::build(5, &square()),
             Err(TopologyError::IsolatedVertex(4))
+        );
+    }
+
+    #[test]
+    fn pieces_are_counted_and_bow_ties_refused() {
+        // Two squares apart: two discs.
+        let two = [[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]];
+        let t = Topology::build(8, &two).unwrap();
+        assert_eq!(t.pieces(), vec![vec![0, 1], vec![2, 3]]);
+        assert_eq!(t.validate_pieces(), Ok(2));
+        // Two triangles meeting only at vertex 0: one vertex, two fans.
+        let bow_tie = [[0, 1, 2], [0, 3, 4]];
+        let t = Topology::build(5, &bow_tie).unwrap();
+        assert!(t.validate_pieces().unwrap_err().contains("vertex 0"));
+        // A fan all round an inner vertex (a closed fan) is one fan.
+        let hexagon: Vec<[u32; 3]> = (0..6).map(|k| [0, 1 + k, 1 + (k + 1) % 6]).collect();
+        assert_eq!(
+            Topology::build(7, &hexagon).unwrap().validate_pieces(),
+            Ok(1)
         );
     }
 }

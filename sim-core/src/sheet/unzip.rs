@@ -173,86 +173,6 @@ mod tests {
     use crate::sheet::refine::tests::bent_sheet as sheet;
     use crate::sheet::{MeshConfig, Sheet};
 
-    /// Connected pieces of `sp` (triangles sharing an edge), as lists of triangles.
-    fn pieces(sp: &PhysMesh) -> Vec<Vec<usize>> {
-        let nt = sp.triangles.len();
-        let mut piece = vec![usize::MAX; nt];
-        let mut out = Vec::new();
-        for start in 0..nt {
-            if piece[start] != usize::MAX {
-                continue;
-            }
-            let id = out.len();
-            let mut stack = vec![start];
-            piece[start] = id;
-            let mut members = Vec::new();
-            while let Some(t) = stack.pop() {
-                members.push(t);
-                for k in 0..3 {
-                    let e = sp.topo.he_edge[3 * t + k] as usize;
-                    for &he in &sp.topo.edges[e].he {
-                        if he == crate::sheet::topology::NONE {
-                            continue;
-                        }
-                        let u = (he / 3) as usize;
-                        if piece[u] == usize::MAX {
-                            piece[u] = id;
-                            stack.push(u);
-                        }
-                    }
-                }
-            }
-            out.push(members);
-        }
-        out
-    }
-
-    /// χ = V − E + F of a piece.
-    fn euler(sp: &PhysMesh, tris: &[usize]) -> i64 {
-        let mut verts: Vec<u32> = tris.iter().flat_map(|&t| sp.triangles[t]).collect();
-        verts.sort_unstable();
-        verts.dedup();
-        let mut edges: Vec<[u32; 2]> = tris
-            .iter()
-            .flat_map(|&t| {
-                let tri = sp.triangles[t];
-                (0..3).map(move |k| {
-                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                    [a.min(b), a.max(b)]
-                })
-            })
-            .collect();
-        edges.sort_unstable();
-        edges.dedup();
-        verts.len() as i64 - edges.len() as i64 + tris.len() as i64
-    }
-
-    /// Every vertex's triangles form one fan (connected through edges at the vertex).
-    fn one_fan_per_vertex(sp: &PhysMesh) {
-        for v in 0..sp.num_vertices() as u32 {
-            let fan: Vec<usize> = (0..sp.triangles.len())
-                .filter(|&t| sp.triangles[t].contains(&v))
-                .collect();
-            let mut reached = vec![fan[0]];
-            let mut k = 0;
-            while k < reached.len() {
-                let t = reached[k];
-                k += 1;
-                for &x in &sp.triangles[t] {
-                    if x == v {
-                        continue;
-                    }
-                    for &u in &fan {
-                        if !reached.contains(&u) && sp.triangles[u].contains(&x) {
-                            reached.push(u);
-                        }
-                    }
-                }
-            }
-            assert_eq!(reached.len(), fan.len(), "vertex {v} has more than one fan");
-        }
-    }
-
     fn area(sp: &PhysMesh) -> f64 {
         sp.tri_rest.iter().map(|r| r.area_m2).sum()
     }
@@ -271,12 +191,7 @@ mod tests {
 
     fn checked(sp: &PhysMesh, u: &Unzip, pieces_expected: usize) {
         u.mesh.topo.validate().unwrap();
-        one_fan_per_vertex(&u.mesh);
-        let p = pieces(&u.mesh);
-        assert_eq!(p.len(), pieces_expected);
-        for piece in &p {
-            assert_eq!(euler(&u.mesh, piece), 1, "each piece is a disc");
-        }
+        assert_eq!(u.mesh.topo.validate_pieces(), Ok(pieces_expected));
         assert!((area(&u.mesh) - area(sp)).abs() <= 1e-9 * area(sp));
         assert!((u.mesh.total_mass_kg() - sp.total_mass_kg()).abs() <= 1e-12);
         // Same triangles in the pattern, same places in 3D.

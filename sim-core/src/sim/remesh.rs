@@ -131,7 +131,7 @@ impl Sim {
     /// Replaces S_P by `mesh` (refined or flipped: old vertices keep their index, new ones are
     /// appended; `tri_parent` names each triangle's old triangle) and rebuilds what is sized by
     /// it. Nothing changes if an error is returned.
-    fn adopt_mesh(&mut self, mesh: PhysMesh, tri_parent: &[u32]) -> Result<(), String> {
+    pub(super) fn adopt_mesh(&mut self, mesh: PhysMesh, tri_parent: &[u32]) -> Result<(), String> {
         let n = mesh.num_vertices();
         let sg = GeomStructure::initial(&mesh);
         let mut sheet = Sheet {

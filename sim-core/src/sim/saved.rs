@@ -24,10 +24,12 @@ use crate::gesture_rig::{NUM_HANDS, RigState};
 /// Version of [`SavedSheet`]; bump it (and migrate) whenever its meaning changes.
 ///
 /// History: 1 = positions only (kinematic placeholder); 2 = the physical sheet; 3 = plus the
-/// geometry layer's state ([`SavedSheet::geometry`]). Version 2 is still read (migration: the
-/// singular vertices, rest angles and damage it already holds are kept, the layer's
-/// flat/curved state and generator start fresh).
-pub const SAVED_SHEET_VERSION: u32 = 3;
+/// geometry layer's state ([`SavedSheet::geometry`]); 4 = plus the tear
+/// ([`SavedSheet::tear`]: a torn sheet's pattern has two lips at one place, which version 3
+/// never held). Version 2 is still read (migration: the singular vertices, rest angles and
+/// damage it already holds are kept, the layer's flat/curved state and generator start
+/// fresh); version 3 opens untorn.
+pub const SAVED_SHEET_VERSION: u32 = 4;
 /// Oldest version [`crate::Sim::restore`] reads.
 pub const OLDEST_READABLE_VERSION: u32 = 2;
 
@@ -99,6 +101,9 @@ pub struct SavedSheet {
     /// ([`crate::sound_analysis::SavedSoundHistory`]; absent in older saves: it starts afresh).
     #[serde(default)]
     pub sound_history: Option<crate::sound_analysis::SavedSoundHistory>,
+    /// The tear (version ≥ 4; absent in older saves: untorn).
+    #[serde(default)]
+    pub tear: crate::sim::tear::TearProgress,
 }
 
 /// Why a saved sheet could not be restored.

@@ -1,0 +1,460 @@
+//! # The tear in the frame loop: `tear_amount` and `tear_steer` tear the sheet
+//!
+//! The seeds' procedural two-hand tear (MIG 2015 §3–4, `../shared/seeds/003_8cfb4a33a3603fcd.txt`
+//! M:85–138; thesis §3.2, `../shared/seeds/000_cb4d91e46ec5927f.txt` T:1310–1419) driven by two
+//! gesture values instead of a mouse:
+//!
+//! 1. **Start** (M:114, T:1361): when `tear_amount` first rises, the tear starts on the back
+//!    edge (+y) at `tear_pos` across the width, moved by up to [`START_JITTER_M`] by the tear's
+//!    own random stream (the seeds pick a random point between the index fingers; the sheet's
+//!    stream is not touched, so singular points land where they did).
+//! 2. **Macro tip** (eq. 3.1, M:118, T:1370; [`crate::tearing::tip`]): the rise Δθ of
+//!    `tear_amount` (radians) is split between the hands as Δθ₁ = Δθ(1 − steer),
+//!    Δθ₂ = Δθ(1 + steer); the thumbs sit [`THUMB_AHEAD_M`] ahead of the tip and as far either
+//!    side (the hands re-grip as the tear runs), so a straight tear runs towards the front edge
+//!    and steer ±1 turns it 45° towards a side; C = L/√2 makes a straight tear reach the front
+//!    edge at `tear_amount` = 1, and at 1 a tear that has not reached an edge runs on along its
+//!    heading to the border: **at 1 the sheet is in two pieces whatever the steer**.
+//! 3. **A tear never closes** (M:116): the tip moves only when `tear_amount` rises past its
+//!    highest value since the tear started (before it starts, the highest value follows the
+//!    amount down, so a reset sheet tears again when the amount rises). The rig slews
+//!    `tear_amount` at the rotation clamp (0.05 rad per 5 ms frame): the faster the ramp, the
+//!    faster the tear, up to 10 rad/s.
+//! 4. **The mesh follows** (tearing-plan §3.2): when the macro tip is [`MESH_STEP_FRAC`] of
+//!    an edge ahead of the mesh's tip vertex, or has reached the border, a mesh step is
+//!    *announced* ([`crate::Sim::refinement_pending`]) and made at the start of the next frame:
+//!    [`crate::sheet::tear_step::advance_tear`] cuts S_P along the segment and unzips it into
+//!    two lips, then the sim adopts the mesh (sim/remesh.rs). Batching the cut this way keeps
+//!    the adoptions (~0.8 ms each) to about one per edge of tear.
+//! 5. **Sound** (M:120, M:154, T:2042): the macro tip's speed ‖t‖/dt and its place on the
+//!    surface fill [`crate::sound_input::TearState`]; the render path's tear noise reads them.
+//!
+//! Decisions, one line each (not in the seeds):
+//! - The macro tip moves continuously and drives the sound; the mesh's tip lags it by less than
+//!   an edge, so the sound does not come in bursts of mesh steps.
+//! - The tip's logic lives in the pattern, so an undone frame (sim.rs) needs no roll-back: the
+//!   tear is a function of the gesture history, not of the sheet's positions.
+//! - One tear front per sheet (Tearing I; the seeds' limitation too, M:171); once the sheet is
+//!   in two pieces the tear gestures do nothing until a reset.
+//! - A mesh step that crosses no edge yet waits for the tip to move on; one the cut refuses (a
+//!   sliver it would make) is counted and tried again likewise; at the border the step aims a
+//!   quarter edge beyond it.
+
+use serde::{Deserialize, Serialize};
+
+use crate::math::{V2, V3};
+use crate::sheet::physical::PhysMesh;
+use crate::tearing::tip;
+
+/// Distance of the thumbs ahead of the tip and to either side of its axis, metres (the
+/// seeds' hands hold the paper a few centimetres from the tear, Fig. 3.9; impl. choice).
+pub const THUMB_AHEAD_M: f64 = 0.03;
+/// Largest move of the start away from `tear_pos`, metres (the seeds' random start between
+/// the index fingers, M:114; impl. choice).
+pub const START_JITTER_M: f64 = 0.005;
+/// A start keeps this fraction of the width from a side edge.
+pub const START_MARGIN_FRAC: f64 = 0.05;
+/// The mesh's tip follows the macro tip once it is this fraction of the mesh spacing behind.
+pub const MESH_STEP_FRAC: f64 = 0.5;
+/// `tear_amount` at which the tear is complete (reaches the border whatever its path).
+pub const FULL_TEAR_RAD: f64 = 1.0 - 1e-9;
+
+/// The tear's state: where it started, its macro tip, the mesh's tip vertex (saved with the
+/// sheet).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TearProgress {
+    /// The tear has started.
+    pub started: bool,
+    /// Highest `tear_amount` since the tear started (the ratchet), radians.
+    pub theta_max_rad: f64,
+    /// Where the tear started on the border, pattern metres.
+    pub start_m: [f64; 2],
+    /// The macro tip, pattern metres.
+    pub tip_m: [f64; 2],
+    /// Direction of the last tip step (unit, pattern).
+    pub heading: [f64; 2],
+    /// The mesh's tip: an S_P vertex (`None` until the first mesh step).
+    pub mesh_tip: Option<u32>,
+    /// Pattern position of the mesh's tip (the start until the first mesh step).
+    pub mesh_tip_m: [f64; 2],
+    /// The macro tip has reached the border.
+    pub reached_edge: bool,
+    /// The sheet is in two pieces.
+    pub separated: bool,
+    /// A mesh step is announced for the start of the next frame.
+    pub pending: bool,
+    /// Length of the macro tip's path, pattern metres (never decreases).
+    pub path_length_m: f64,
+    /// Mesh steps made.
+    pub mesh_steps: u32,
+    /// Mesh steps the cut refused.
+    pub refused_steps: u32,
+    /// Macro path length at the last mesh step tried (a step that could not be made is tried
+    /// again once the tip has moved on).
+    pub tried_at_m: f64,
+}
+
+/// The gesture values the tear reads each frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TearInput {
+    /// `tear_amount`, radians (0–1).
+    pub amount_rad: f64,
+    /// `tear_steer`, −1…1.
+    pub steer: f64,
+    /// `tear_pos`, 0 (left end of the back edge) … 1.
+    pub pos: f64,
+}
+
+impl TearProgress {
+    fn v(a: [f64; 2]) -> V2 {
+        V2::new(a[0], a[1])
+    }
+
+    /// The macro tip (pattern).
+    pub fn tip(&self) -> V2 {
+        Self::v(self.tip_m)
+    }
+
+    /// Advances the macro tip for this frame's gesture values on a `w` × `l` sheet; `jitter`
+    /// in \[−1, 1\] places the start (drawn from the tear's stream). Returns the tip's move,
+    /// pattern metres (0 if it does not move).
+    pub fn advance(&mut self, input: TearInput, w: f64, l: f64, jitter: f64) -> f64 {
+        let TearInput {
+            amount_rad: theta,
+            steer,
+            pos,
+        } = input;
+        if self.separated || !theta.is_finite() {
+            return 0.0;
+        }
+        if !self.started {
+            // Before the tear starts the ratchet follows the amount down.
+            self.theta_max_rad = self.theta_max_rad.min(theta.max(0.0));
+        }
+        if theta <= self.theta_max_rad {
+            return 0.0;
+        }
+        let dtheta = theta - self.theta_max_rad;
+        self.theta_max_rad = theta;
+        if !self.started {
+            let margin = START_MARGIN_FRAC * w;
+            let pos = if pos.is_finite() {
+                pos.clamp(0.0, 1.0)
+            } else {
+                0.5
+            };
+            let x = (-0.5 * w + pos * w + START_JITTER_M * jitter.clamp(-1.0, 1.0))
+                .clamp(-0.5 * w + margin, 0.5 * w - margin);
+            self.started = true;
+            self.start_m = [x, 0.5 * l];
+            self.tip_m = self.start_m;
+            self.mesh_tip_m = self.start_m;
+            self.heading = [0.0, -1.0];
+        }
+        let s = if steer.is_finite() {
+            steer.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
+        let tip0 = self.tip();
+        let thumbs = [
+            tip0 + V2::new(-THUMB_AHEAD_M, -THUMB_AHEAD_M),
+            tip0 + V2::new(THUMB_AHEAD_M, -THUMB_AHEAD_M),
+        ];
+        let c = l / std::f64::consts::SQRT_2;
+        let t = tip::step(tip0, thumbs, [dtheta * (1.0 - s), dtheta * (1.0 + s)], c);
+        let tn = t.norm();
+        if tn > 0.0 {
+            self.heading = [t.x / tn, t.y / tn];
+        }
+        let heading = Self::v(self.heading);
+        let mut tip1 = tip0 + t;
+        // The border stops the tip; at the full amount it runs on to the border.
+        let exit = border_exit(tip0, heading, w, l);
+        if (tip1 - tip0).norm() >= exit || theta >= FULL_TEAR_RAD {
+            tip1 = tip0 + heading * exit;
+            self.reached_edge = true;
+        }
+        let moved = (tip1 - tip0).norm();
+        self.tip_m = [tip1.x, tip1.y];
+        self.path_length_m += moved;
+        moved
+    }
+
+    /// Whether the mesh should follow the macro tip now (`spacing_m`: the mesh's edge length).
+    pub fn mesh_step_due(&self, spacing_m: f64) -> bool {
+        if !self.started || self.separated || self.pending {
+            return false;
+        }
+        let behind = (self.tip() - Self::v(self.mesh_tip_m)).norm();
+        let moved_since_last_try = self.path_length_m > self.tried_at_m;
+        moved_since_last_try && (self.reached_edge || behind >= MESH_STEP_FRAC * spacing_m)
+    }
+
+    /// The pattern point a mesh step aims at: the macro tip, or beyond the border once it is
+    /// there.
+    pub fn mesh_target(&self, spacing_m: f64) -> V2 {
+        if self.reached_edge {
+            self.tip() + Self::v(self.heading) * (0.25 * spacing_m)
+        } else {
+            self.tip()
+        }
+    }
+
+    /// Checks a restored state against a mesh of `num_vertices` vertices.
+    pub fn validate(&self, num_vertices: usize) -> Result<(), String> {
+        let finite = [
+            self.theta_max_rad,
+            self.path_length_m,
+            self.tried_at_m,
+            self.start_m[0],
+            self.start_m[1],
+            self.tip_m[0],
+            self.tip_m[1],
+            self.heading[0],
+            self.heading[1],
+            self.mesh_tip_m[0],
+            self.mesh_tip_m[1],
+        ]
+        .iter()
+        .all(|x| x.is_finite());
+        if !finite {
+            return Err("the tear's state is not finite".into());
+        }
+        if self.mesh_tip.is_some_and(|v| v as usize >= num_vertices) {
+            return Err("the tear's tip vertex is not in the mesh".into());
+        }
+        Ok(())
+    }
+}
+
+/// Stream constant of the tear's random draws (its start), apart from the sheet's stream.
+const TEAR_STREAM: u64 = 0x7465_6172;
+
+impl super::Sim {
+    /// The tear's state.
+    pub fn tear(&self) -> &TearProgress {
+        &self.tear
+    }
+
+    /// This frame's tear (after the rig moved the gestures): advances the macro tip, announces
+    /// a mesh step if due, and writes the tear's sound input (module doc).
+    pub(super) fn tear_frame(&mut self, dt: f64, sound: &mut crate::sound_input::SoundFrame) {
+        use crate::control::GestureParam as G;
+        use rand::{RngExt, SeedableRng};
+        let g = |p: G| self.rig.state.smoothed[p.index()];
+        let input = TearInput {
+            amount_rad: g(G::TearAmount),
+            steer: g(G::TearSteer),
+            pos: g(G::TearPosition),
+        };
+        let jitter = if self.tear.started {
+            0.0
+        } else {
+            rand_pcg::Pcg32::seed_from_u64(self.cfg.seed ^ TEAR_STREAM).random_range(-1.0..=1.0)
+        };
+        let (w, l) = (self.sheet.width_m, self.sheet.length_m);
+        let moved_m = self.tear.advance(input, w, l, jitter);
+        let spacing_m = self.cfg.mesh.spacing_m(self.cfg.size);
+        if self.tear.mesh_step_due(spacing_m) {
+            self.tear.pending = true;
+        }
+        if moved_m > 0.0 {
+            let x = surface_point(&self.sheet.sp, self.tear.tip());
+            sound.tear.speed_m_s = (moved_m / dt) as f32;
+            sound.tear.tip_m = [x.x as f32, x.y as f32, x.z as f32];
+        }
+        sound.tear.length_m = self.tear.path_length_m as f32;
+    }
+
+    /// Makes the mesh step announced last frame (module doc, step 4): cut and unzip S_P
+    /// towards the macro tip and adopt the torn mesh.
+    pub(super) fn apply_pending_tear(&mut self) {
+        use crate::sheet::tear_step::{TearError, TearFrom, advance_tear};
+        if !self.tear.pending {
+            return;
+        }
+        self.tear.pending = false;
+        self.tear.tried_at_m = self.tear.path_length_m;
+        let spacing_m = self.cfg.mesh.spacing_m(self.cfg.size);
+        let from = match self.tear.mesh_tip {
+            Some(v) => TearFrom::Tip(v),
+            None => TearFrom::Border(TearProgress::v(self.tear.start_m)),
+        };
+        let to = self.tear.mesh_target(spacing_m);
+        let mut step = match advance_tear(&self.sheet.sp, from, to) {
+            Ok(st) => st,
+            // Too short to cross an edge yet (or, from the border, to make an edge of its
+            // own): the tip goes on and the step comes when it has moved.
+            Err(TearError::TooShort) if !self.tear.reached_edge => return,
+            Err(_) if self.tear.mesh_tip.is_none() && !self.tear.reached_edge => return,
+            Err(_) => {
+                self.tear.refused_steps += 1;
+                return;
+            }
+        };
+        // A singular vertex the tear ran through is on a lip now: a tip of the border, no
+        // longer an interior singular point (T:1489–1498 counts such points as boundary ones).
+        let on_boundary = &step.mesh.topo.vertex_on_boundary;
+        step.mesh.singular.retain(|&v| !on_boundary[v as usize]);
+        self.geometry.start_events_early();
+        self.wake();
+        if self.adopt_mesh(step.mesh, &step.tri_parent).is_err() {
+            self.tear.refused_steps += 1;
+            return;
+        }
+        self.sheet.sg.pull_positions(&self.sheet.sp);
+        self.tear.mesh_steps += 1;
+        self.tear.mesh_tip = Some(step.tip);
+        let q = self.sheet.sp.pattern[step.tip as usize];
+        self.tear.mesh_tip_m = [q.x, q.y];
+        self.tear.separated = self.sheet.sp.topo.pieces().len() > 1;
+        if self.tear.reached_edge && !self.tear.separated {
+            // The border not reached by this step: the next frame goes on from the new tip.
+            self.tear.tried_at_m = -1.0;
+            self.tear.pending = true;
+        }
+    }
+}
+
+/// Distance from `p` along unit `d` to the border of the `w` × `l` rectangle centred at the
+/// origin (0 if `d` is zero or points out from a point on the border).
+fn border_exit(p: V2, d: V2, w: f64, l: f64) -> f64 {
+    let mut t = f64::INFINITY;
+    for (pc, dc, half) in [(p.x, d.x, 0.5 * w), (p.y, d.y, 0.5 * l)] {
+        if dc > 0.0 {
+            t = t.min((half - pc) / dc);
+        } else if dc < 0.0 {
+            t = t.min((-half - pc) / dc);
+        }
+    }
+    if t.is_finite() { t.max(0.0) } else { 0.0 }
+}
+
+/// The point of the surface over pattern point `p`: barycentric in the triangle that contains
+/// it (or comes closest to containing it).
+pub fn surface_point(sp: &PhysMesh, p: V2) -> V3 {
+    let mut best: Option<(f64, V3)> = None;
+    for tri in &sp.triangles {
+        let [a, b, c] = tri.map(|i| sp.pattern[i as usize]);
+        let [l0, l1, l2] = crate::math::barycentric2(a, b, c, p);
+        let inside = l0.min(l1).min(l2);
+        if inside.is_finite() && best.is_none_or(|(m, _)| inside > m) {
+            let [x0, x1, x2] = tri.map(|i| sp.pos[i as usize]);
+            best = Some((inside, x0 * l0 + x1 * l1 + x2 * l2));
+        }
+    }
+    best.map_or(V3::zeros(), |(_, x)| x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const W: f64 = 0.21;
+    const L: f64 = 0.297;
+
+    fn input(amount_rad: f64, steer: f64) -> TearInput {
+        TearInput {
+            amount_rad,
+            steer,
+            pos: 0.5,
+        }
+    }
+
+    /// Ramps the amount 0 → `to` in `n` frames at `steer`.
+    fn ramp(to: f64, steer: f64, n: usize) -> TearProgress {
+        let mut t = TearProgress::default();
+        for k in 1..=n {
+            t.advance(input(to * k as f64 / n as f64, steer), W, L, 0.0);
+        }
+        t
+    }
+
+    #[test]
+    fn a_straight_tear_runs_to_the_front_edge_at_full_amount() {
+        let half = ramp(0.5, 0.0, 50);
+        assert!((half.tip_m[0]).abs() < 1e-12);
+        assert!((half.tip_m[1] - 0.0).abs() < 1e-9, "{:?}", half.tip_m);
+        assert!(!half.reached_edge);
+        let full = ramp(1.0, 0.0, 100);
+        assert!(full.reached_edge);
+        assert!((full.tip_m[1] + 0.5 * L).abs() < 1e-9);
+        assert!((full.path_length_m - L).abs() < 1e-9);
+    }
+
+    #[test]
+    fn at_full_amount_every_steer_reaches_an_edge_and_steer_turns_the_tear() {
+        let mut last_x = f64::NEG_INFINITY;
+        for s in [-1.0, -0.5, 0.0, 0.5, 1.0] {
+            let t = ramp(1.0, s, 40);
+            assert!(t.reached_edge, "steer {s}");
+            let [x, y] = t.tip_m;
+            let on_border = (x.abs() - 0.5 * W).abs() < 1e-9 || (y.abs() - 0.5 * L).abs() < 1e-9;
+            assert!(on_border, "steer {s}: tip {x}, {y}");
+            // The end's lateral offset has the steer's sign and grows with it.
+            assert!(x >= last_x, "steer {s}: {x} after {last_x}");
+            assert_eq!(x.abs() < 1e-12, s == 0.0);
+            assert_eq!(x > 0.0, s > 0.0);
+            last_x = x;
+        }
+    }
+
+    #[test]
+    fn a_tear_never_closes_and_a_held_amount_stops_it() {
+        let mut t = ramp(0.4, 0.0, 10);
+        let tip = t.tip_m;
+        assert_eq!(t.advance(input(0.4, 0.0), W, L, 0.0), 0.0);
+        assert_eq!(t.advance(input(0.1, 0.0), W, L, 0.0), 0.0);
+        assert_eq!(t.advance(input(0.35, 0.0), W, L, 0.0), 0.0);
+        assert_eq!(t.tip_m, tip);
+        assert!(t.advance(input(0.45, 0.0), W, L, 0.0) > 0.0);
+        assert_eq!(t.advance(input(f64::NAN, 0.0), W, L, 0.0), 0.0);
+    }
+
+    #[test]
+    fn twice_the_ramp_rate_tears_twice_as_fast() {
+        let mut slow = TearProgress::default();
+        let mut fast = TearProgress::default();
+        slow.advance(input(0.1, 0.3), W, L, 0.0);
+        fast.advance(input(0.1, 0.3), W, L, 0.0);
+        let a = slow.advance(input(0.12, 0.3), W, L, 0.0);
+        let b = fast.advance(input(0.14, 0.3), W, L, 0.0);
+        assert!((b / a - 2.0).abs() < 1e-9, "{a} {b}");
+    }
+
+    #[test]
+    fn before_the_tear_starts_the_ratchet_follows_the_amount_down() {
+        let mut t = TearProgress {
+            theta_max_rad: 1.0,
+            ..TearProgress::default()
+        };
+        assert_eq!(t.advance(input(0.0, 0.0), W, L, 0.0), 0.0);
+        assert!(t.advance(input(0.2, 0.0), W, L, 0.0) > 0.0);
+        assert!(t.started);
+    }
+
+    #[test]
+    fn the_start_is_on_the_back_edge_at_tear_pos_within_the_jitter() {
+        for (pos, jitter) in [(0.5, 0.0), (0.25, 1.0), (0.0, -1.0), (1.0, 1.0)] {
+            let mut t = TearProgress::default();
+            t.advance(
+                TearInput {
+                    amount_rad: 0.01,
+                    steer: 0.0,
+                    pos,
+                },
+                W,
+                L,
+                jitter,
+            );
+            let [x, y] = t.start_m;
+            assert_eq!(y, 0.5 * L);
+            let want = (-0.5 * W + pos * W + START_JITTER_M * jitter).clamp(
+                -0.5 * W + START_MARGIN_FRAC * W,
+                0.5 * W - START_MARGIN_FRAC * W,
+            );
+            assert!((x - want).abs() < 1e-15);
+        }
+    }
+}

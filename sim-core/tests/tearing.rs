@@ -1,0 +1,181 @@
+//! Tearing I in the frame loop (sim/tear.rs): `tear_amount` 0 → 1 tears the sheet in two
+//! whatever the steer, the torn mesh keeps its invariants in every frame, the mesh changes
+//! are announced, the tear sounds while it moves, and a save mid-tear continues exactly.
+
+use sim_core::control::{Command, GestureParam, SheetSize};
+use sim_core::scenario_run::state_hash;
+use sim_core::sim::{FrameOutput, Sim, SimConfig};
+
+fn area(sim: &Sim) -> f64 {
+    sim.sheet().sp.tri_rest.iter().map(|t| t.area_m2).sum()
+}
+
+fn set(sim: &mut Sim, param: GestureParam, value: f32) {
+    sim.apply(Command::Gesture { param, value });
+}
+
+/// A sheet on the table torn by `tear_amount` ramped 0 → 1 over `ramp_frames` at `steer`,
+/// then `hold` frames more; checks the invariants every frame. Returns the sim and the frames
+/// in which the tear sounded.
+fn tear(
+    size: SheetSize,
+    steer: f32,
+    pos: f32,
+    ramp_frames: u32,
+    hold: u32,
+    seed: u64,
+) -> (Sim, Vec<u32>) {
+    let mut sim = Sim::new(SimConfig {
+        size,
+        seed,
+        ..SimConfig::default()
+    });
+    let (w, l) = (sim.sheet().width_m, sim.sheet().length_m);
+    let mut out = FrameOutput::default();
+    set(&mut sim, GestureParam::TearSteer, steer);
+    set(&mut sim, GestureParam::TearPosition, pos);
+    let mut sounding = Vec::new();
+    let mut last_length = 0.0f32;
+    for k in 1..=ramp_frames + hold {
+        let amount = (k as f32 / ramp_frames as f32).min(1.0);
+        set(&mut sim, GestureParam::TearAmount, amount);
+        let vertices_before = sim.sheet().sp.num_vertices();
+        let announced = sim.refinement_pending();
+        sim.step(&mut out);
+        // Only an announced frame changes the mesh.
+        if sim.sheet().sp.num_vertices() != vertices_before {
+            assert!(announced, "frame {k}: an unannounced mesh change");
+        }
+        let sp = &sim.sheet().sp;
+        sp.topo.validate().unwrap();
+        let pieces = sp
+            .topo
+            .validate_pieces()
+            .unwrap_or_else(|e| panic!("frame {k}: {e}"));
+        assert!(pieces <= 2);
+        sim.sheet()
+            .sg
+            .validate(sp)
+            .unwrap_or_else(|e| panic!("frame {k}: {e}"));
+        assert!(
+            (area(&sim) - w * l).abs() <= 1e-9 * w * l,
+            "frame {k}: area"
+        );
+        assert!(sp.pos.iter().all(|p| p.iter().all(|c| c.is_finite())));
+        let t = out.sound.tear;
+        assert!(t.length_m >= last_length, "torn length decreased");
+        last_length = t.length_m;
+        if t.speed_m_s > 0.0 {
+            sounding.push(k);
+            assert!(t.tip_m.iter().all(|c| c.is_finite()));
+        }
+    }
+    (sim, sounding)
+}
+
+#[test]
+fn a_full_tear_leaves_exactly_two_pieces_with_the_sheets_area_whatever_the_steer() {
+    for (size, steer, pos, seed) in [
+        (SheetSize::A4, 0.0, 0.5, 1),
+        (SheetSize::A4, 0.6, 0.3, 2),
+        (SheetSize::A5, -1.0, 0.7, 3),
+        (SheetSize::A6, 0.3, 0.5, 4),
+        (SheetSize::A4, 1.0, 0.9, 5),
+    ] {
+        let (sim, sounding) = tear(size, steer, pos, 200, 20, seed);
+        assert!(
+            sim.tear().separated,
+            "{size:?} steer {steer}: not separated {:?}",
+            sim.tear()
+        );
+        assert_eq!(sim.sheet().sp.topo.pieces().len(), 2);
+        // It sounded from the first frame the amount rose until the tip stopped.
+        assert_eq!(sounding.first(), Some(&1), "{size:?} steer {steer}");
+        assert!(
+            sounding.len() >= 10,
+            "{size:?} steer {steer}: {} frames",
+            sounding.len()
+        );
+        assert_eq!(sim.tear().refused_steps, 0, "{size:?} steer {steer}");
+    }
+}
+
+#[test]
+fn a_held_amount_stops_the_tear_and_the_sheet_comes_to_rest() {
+    let mut sim = Sim::new(SimConfig::default());
+    let mut out = FrameOutput::default();
+    for k in 1..=100 {
+        set(&mut sim, GestureParam::TearAmount, k as f32 / 200.0);
+        sim.step(&mut out);
+    }
+    let length = sim.tear().path_length_m;
+    assert!(length > 0.1 && !sim.tear().separated);
+    for _ in 0..400 {
+        sim.step(&mut out);
+        assert_eq!(out.sound.tear.speed_m_s, 0.0);
+    }
+    assert_eq!(sim.tear().path_length_m, length);
+    assert_eq!(sim.sheet().sp.topo.pieces().len(), 1);
+    assert!(sim.is_asleep(), "a half-torn sheet on the table sleeps");
+}
+
+#[test]
+fn a_reset_gives_a_whole_sheet_that_tears_again() {
+    let (mut sim, _) = tear(SheetSize::A6, 0.0, 0.5, 100, 5, 9);
+    assert!(sim.tear().separated);
+    sim.apply(Command::Reset);
+    let mut out = FrameOutput::default();
+    for _ in 0..5 {
+        sim.step(&mut out);
+    }
+    assert_eq!(sim.sheet().sp.topo.pieces().len(), 1);
+    assert!(
+        !sim.tear().started,
+        "the amount held at 1 does not tear the new sheet"
+    );
+    set(&mut sim, GestureParam::TearAmount, 0.0);
+    for k in 1..=150 {
+        set(
+            &mut sim,
+            GestureParam::TearAmount,
+            (k as f32 / 100.0).min(1.0),
+        );
+        sim.step(&mut out);
+    }
+    assert!(sim.tear().separated);
+}
+
+#[test]
+fn a_sheet_saved_mid_tear_continues_bit_identically() {
+    let mut a = Sim::new(SimConfig {
+        size: SheetSize::A5,
+        ..SimConfig::default()
+    });
+    let mut out = FrameOutput::default();
+    let drive = |sim: &mut Sim, k: u32| {
+        set(
+            sim,
+            GestureParam::TearSteer,
+            if (k / 30) % 2 == 0 { 0.8 } else { -0.8 },
+        );
+        set(sim, GestureParam::TearAmount, (k as f32 / 160.0).min(1.0));
+    };
+    for k in 1..=70 {
+        drive(&mut a, k);
+        a.step(&mut out);
+    }
+    assert!(a.tear().mesh_steps > 0);
+    let saved = a.save();
+    let json = serde_json::to_string(&saved).unwrap();
+    let mut b = Sim::restore(SimConfig::default(), &serde_json::from_str(&json).unwrap()).unwrap();
+    let mut out_b = FrameOutput::default();
+    for k in 71..=200 {
+        drive(&mut a, k);
+        drive(&mut b, k);
+        a.step(&mut out);
+        b.step(&mut out_b);
+        assert_eq!(out.sound, out_b.sound, "frame {k}");
+        assert_eq!(state_hash(&a), state_hash(&b), "frame {k}");
+    }
+    assert!(a.tear().separated);
+}
