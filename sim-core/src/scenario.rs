@@ -18,6 +18,8 @@
 //! | `s4_crumple` | S4: crumpling printer, tracing and bank-note paper (T Fig. 4.22) |
 //! | `s5_fold_and_revert` | S5: fold and revert, a flap (T Fig. 4.17) |
 //! | `s6_slide_on_table` | S6: sliding on a table (T Fig. 4.16) |
+//! | `t1_two_hand_tear` | T1: two hands tear a sheet on the table in two (M §3–4, T Fig. 3.9) |
+//! | `t2_steered_tear` | T2: the hands' balance steers the tear left and right (T Fig. 3.10) |
 
 use thiserror::Error;
 
@@ -45,6 +47,8 @@ scenarios!(
     "s4_crumple",
     "s5_fold_and_revert",
     "s6_slide_on_table",
+    "t1_two_hand_tear",
+    "t2_steered_tear",
 );
 
 /// Why a scenario could not be loaded.
@@ -128,7 +132,7 @@ mod tests {
 
     #[test]
     fn every_scenario_parses_and_validates() {
-        assert_eq!(names().count(), 12);
+        assert_eq!(names().count(), 14);
         for name in names() {
             let s = get(name).unwrap_or_else(|e| panic!("{e}"));
             validate(&s).unwrap_or_else(|e| panic!("{name}: {e}"));

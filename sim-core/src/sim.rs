@@ -663,7 +663,9 @@ impl Sim {
         self.rig
             .rebuild_geometry(&self.sheet, self.cfg.room.home_height_m());
         // A whole sheet: it tears again when the amount rises past its value now (sim/tear.rs).
-        self.tear.theta_max_rad = self.rig.state.smoothed[GestureParam::TearAmount.index()];
+        let amount = self.rig.state.smoothed[GestureParam::TearAmount.index()];
+        self.tear.theta_max_rad = amount;
+        self.tear.drive_rad = amount;
         self.wake();
     }
 
@@ -741,6 +743,7 @@ impl Sim {
             self.place_pending_singular(&p);
         }
         self.apply_pending_tear();
+        out.sound.tear.length_m = self.tear.path_length_m as f32;
         if self.asleep {
             self.geometry.idle_frame(self.frame);
             out.stats = self.stats(true, 0, 0, 0);
@@ -916,6 +919,7 @@ impl Sim {
         };
         let quiet = !planes_moved
             && !self.tear.pending
+            && self.tear.drive_rad == self.rig.state.smoothed[GestureParam::TearAmount.index()]
             && !self.rig.is_moving()
             && !self.obstacles.is_moving()
             && moved_m < SLEEP_SPEED_M_S * dt;

@@ -435,7 +435,7 @@ fn every_scene_plays_from_its_midi_performance() {
         .lines()
         .map(str::to_string)
         .collect();
-    assert_eq!(names.len(), 12);
+    assert_eq!(names.len(), 14);
     for name in &names {
         let mid = dir.join(format!("{name}.mid"));
         let o = run(&["--scene", name, "--write-midi", s(&mid)]);

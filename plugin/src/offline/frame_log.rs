@@ -130,11 +130,11 @@ pub struct TearRecord {
     #[serde(default)]
     pub tip_m: [f32; 3],
     /// Length torn so far, m (absent while nothing is torn).
-    #[serde(default, skip_serializing_if = "is_zero")]
+    #[serde(default, skip_serializing_if = "is_zero_f32")]
     pub length_m: f32,
 }
 
-fn is_zero(x: &f32) -> bool {
+fn is_zero_f32(x: &f32) -> bool {
     *x == 0.0
 }
 

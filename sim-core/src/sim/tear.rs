@@ -18,8 +18,9 @@
 //! 3. **A tear never closes** (M:116): the tip moves only when `tear_amount` rises past its
 //!    highest value since the tear started (before it starts, the highest value follows the
 //!    amount down, so a reset sheet tears again when the amount rises). The rig slews
-//!    `tear_amount` at the rotation clamp (0.05 rad per 5 ms frame): the faster the ramp, the
-//!    faster the tear, up to 10 rad/s.
+//!    `tear_amount` at the rotation clamp (0.05 rad per 5 ms frame) and the hands follow it
+//!    through a 40 ms low-pass ([`TEAR_SMOOTHING_S`]: a MIDI ramp's 1/127 steps become a
+//!    steady rotation): the faster the ramp, the faster the tear, up to 10 rad/s.
 //! 4. **The mesh follows** (tearing-plan §3.2): when the macro tip is [`MESH_STEP_FRAC`] of
 //!    an edge ahead of the mesh's tip vertex, or has reached the border, a mesh step is
 //!    *announced* ([`crate::Sim::refinement_pending`]) and made at the start of the next frame:
@@ -58,6 +59,12 @@ pub const START_MARGIN_FRAC: f64 = 0.05;
 pub const MESH_STEP_FRAC: f64 = 0.5;
 /// `tear_amount` at which the tear is complete (reaches the border whatever its path).
 pub const FULL_TEAR_RAD: f64 = 1.0 - 1e-9;
+/// Time constant of the hands' rotation following `tear_amount`, seconds: a MIDI CC ramp is a
+/// staircase of 1/127 steps, which the rig's slew alone would play as one-frame bursts of one
+/// speed whatever the ramp's rate.
+pub const TEAR_SMOOTHING_S: f64 = 0.04;
+/// The rotation snaps to `tear_amount` within this, radians (so a held amount stops the tip).
+pub const TEAR_SNAP_RAD: f64 = 1e-3;
 
 /// The tear's state: where it started, its macro tip, the mesh's tip vertex (saved with the
 /// sheet).
@@ -89,6 +96,9 @@ pub struct TearProgress {
     pub mesh_steps: u32,
     /// Mesh steps the cut refused.
     pub refused_steps: u32,
+    /// The hands' rotation, radians: `tear_amount` low-passed ([`TEAR_SMOOTHING_S`]).
+    #[serde(default)]
+    pub drive_rad: f64,
     /// Macro path length at the last mesh step tried (a step that could not be made is tried
     /// again once the tip has moved on).
     pub tried_at_m: f64,
@@ -113,6 +123,20 @@ impl TearProgress {
     /// The macro tip (pattern).
     pub fn tip(&self) -> V2 {
         Self::v(self.tip_m)
+    }
+
+    /// Moves the hands' rotation towards `amount_rad` over a frame of `dt` seconds (a one-pole
+    /// low-pass, snapped within [`TEAR_SNAP_RAD`]) and returns it.
+    pub fn drive(&mut self, amount_rad: f64, dt: f64) -> f64 {
+        if !amount_rad.is_finite() {
+            return self.drive_rad;
+        }
+        let a = 1.0 - (-dt / TEAR_SMOOTHING_S).exp();
+        self.drive_rad += (amount_rad - self.drive_rad) * a;
+        if (amount_rad - self.drive_rad).abs() < TEAR_SNAP_RAD || !self.drive_rad.is_finite() {
+            self.drive_rad = amount_rad;
+        }
+        self.drive_rad
     }
 
     /// Advances the macro tip for this frame's gesture values on a `w` × `l` sheet; `jitter`
@@ -207,6 +231,7 @@ impl TearProgress {
             self.theta_max_rad,
             self.path_length_m,
             self.tried_at_m,
+            self.drive_rad,
             self.start_m[0],
             self.start_m[1],
             self.tip_m[0],
@@ -243,8 +268,9 @@ impl super::Sim {
         use crate::control::GestureParam as G;
         use rand::{RngExt, SeedableRng};
         let g = |p: G| self.rig.state.smoothed[p.index()];
+        let amount_rad = self.tear.drive(g(G::TearAmount), dt);
         let input = TearInput {
-            amount_rad: g(G::TearAmount),
+            amount_rad,
             steer: g(G::TearSteer),
             pos: g(G::TearPosition),
         };
