@@ -160,7 +160,11 @@ fn a_sheet_saved_mid_tear_continues_bit_identically() {
         set(
             sim,
             GestureParam::TearSteer,
-            if (k / 30) % 2 == 0 { 0.8 } else { -0.8 },
+            if (k / 30).is_multiple_of(2) {
+                0.8
+            } else {
+                -0.8
+            },
         );
         set(sim, GestureParam::TearAmount, (k as f32 / 160.0).min(1.0));
     };

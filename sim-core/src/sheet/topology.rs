@@ -304,8 +304,7 @@ impl Topology {
         for h in &self.half_edges {
             incident[h.origin as usize] += 1;
         }
-        for v in 0..nv {
-            let start = self.vertex_he[v];
+        for (v, (&start, &count)) in self.vertex_he.iter().zip(&incident).enumerate() {
             if start == NONE {
                 continue;
             }
@@ -315,15 +314,14 @@ impl Topology {
                 walked += 1;
                 let prev = self.half_edges[self.half_edges[h as usize].next as usize].next;
                 let twin = self.half_edges[prev as usize].twin;
-                if twin == NONE || twin == start || walked > incident[v] {
+                if twin == NONE || twin == start || walked > count {
                     break;
                 }
                 h = twin;
             }
-            if walked != incident[v] {
+            if walked != count {
                 return Err(format!(
-                    "vertex {v} has {} triangles, {walked} in one fan",
-                    incident[v]
+                    "vertex {v} has {count} triangles, {walked} in one fan"
                 ));
             }
         }
