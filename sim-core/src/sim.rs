@@ -899,8 +899,9 @@ impl Sim {
             },
             &mut out.sound,
         );
-        self.tear_frame(dt, &mut out.sound);
         self.phase_ns.analysis_ns = self.stopwatch.lap_ns();
+        self.tear_frame(dt, &mut out.sound);
+        self.phase_ns.tear_ns = self.stopwatch.lap_ns();
 
         // Quiet: nothing drives the sheet and no vertex moved faster than SLEEP_SPEED_M_S
         // over the frame. Measured on the positions, not the velocities: where the solve and

@@ -119,6 +119,10 @@ pub struct StressReport {
     pub max_c_mean_pct: f64,
     /// Most S_P vertices on one sheet.
     pub max_vertices: usize,
+    /// Frames stepped with a torn sheet (the mesh cut at least once).
+    pub torn_frames: u64,
+    /// Frames stepped with the sheet in two pieces.
+    pub separated_frames: u64,
     /// "Hold still" phases played to their end.
     pub holds: u64,
     /// Longest wait from the rig's last motion to the sheet's sleep in a hold, frames.
@@ -388,6 +392,8 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
         }
         rep.max_singular = rep.max_singular.max(n);
         rep.max_vertices = rep.max_vertices.max(sim.sheet().sp.num_vertices());
+        rep.torn_frames += u64::from(sim.tear().mesh_steps > 0);
+        rep.separated_frames += u64::from(sim.tear().separated);
         rep.max_c_mean_pct = rep.max_c_mean_pct.max(m.c_mean_pct);
         if m.c_mean_pct.is_nan() || m.c_mean_pct >= MAX_C_MEAN_PCT {
             rep.failure = Some((f, format!("c_mean {} %", m.c_mean_pct)));

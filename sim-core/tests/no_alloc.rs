@@ -2,8 +2,9 @@
 //! snapshot of sufficient capacity do not allocate: a counting global allocator counts the
 //! allocations made on this thread while the sim runs (after `Sim::new`, which preallocates).
 //! The one exception is announced before it happens: a step with `Sim::refinement_pending`
-//! inserts an S_P vertex for a singular point (a new mesh, like a reset); such steps are not
-//! counted, and every other step is. A sheet built on one thread and stepped on another (the
+//! inserts an S_P vertex for a singular point or tears the mesh further (a new mesh, like a
+//! reset); such steps are not counted, and every other step is (a half-torn and a two-piece
+//! sheet included). A sheet built on one thread and stepped on another (the
 //! plugin's worker) allocates once on the new thread unless `sim_core::warm_up_thread` ran
 //! there first. The stall handling allocates nothing either: a solve that pins vertices, and a
 //! substep solved again from rest with the hands held back, or solved as shorter ones.
@@ -141,6 +142,23 @@ fn exercise(sim: &mut Sim, out: &mut FrameOutput, snap: &mut MeshSnapshot) -> u3
         step(sim, out, &mut refined);
     }
     sim.write_mesh(snap);
+    // Torn through: the two pieces step, fall and are copied out without allocating.
+    sim.apply(Command::Gesture {
+        param: GestureParam::TearAmount,
+        value: 1.0,
+    });
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Left,
+        grip: 0.5,
+    });
+    sim.apply(Command::Gesture {
+        param: GestureParam::Lift,
+        value: 0.5,
+    });
+    for _ in 0..200 {
+        step(sim, out, &mut refined);
+    }
+    sim.write_mesh(snap);
     refined
 }
 
@@ -162,6 +180,7 @@ fn stepping_applying_and_copying_the_mesh_do_not_allocate() {
     );
     assert!(snap.is_finite() && !snap.triangles.is_empty());
     assert!(sim.work_counter() > 0);
+    assert!(sim.tear().separated, "the sheet was torn in two");
     // A reset may allocate (new sheet); afterwards the steady state is again free.
     sim.apply(Command::Reset);
     let n = count(|| refined = exercise(&mut sim, &mut out, &mut snap));

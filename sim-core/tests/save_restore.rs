@@ -331,12 +331,19 @@ fn an_older_sheet_whose_held_vertex_the_fresh_hands_do_not_name_opens_with_it_le
 
 #[test]
 fn random_json_mutations_never_panic() {
-    let (sim, _, _) = mid_scenario("c5_full_crumple", 250);
-    let value = serde_json::to_value(sim.save()).unwrap();
+    // A crumpled sheet, a sheet torn half-way (t2 at 2.5 s) and one torn in two (t1 at 3.9 s).
+    let values: Vec<serde_json::Value> = [
+        ("c5_full_crumple", 250),
+        ("t2_steered_tear", 500),
+        ("t1_two_hand_tear", 780),
+    ]
+    .iter()
+    .map(|&(name, frames)| serde_json::to_value(mid_scenario(name, frames).0.save()).unwrap())
+    .collect();
     let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
     let mut accepted = 0;
-    for _ in 0..300 {
-        let mut v = value.clone();
+    for k in 0..300 {
+        let mut v = values[k % values.len()].clone();
         for _ in 0..rng.random_range(1..4u32) {
             common::json_mutation::mutate(&mut v, &mut rng);
         }

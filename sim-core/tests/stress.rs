@@ -78,6 +78,13 @@ fn session(seed: u64, frames: u64) -> sim_core::stress::StressReport {
     // The stream held still now and then, and the sheet came to rest each time (checked
     // inside the run: asleep within a second, silent, strained by at most 10 %).
     assert!(r.holds > 0, "seed {seed}: no hold-still phase");
+    // The wild tear values tore sheets in two (restored, validated and checked like the rest).
+    assert!(
+        r.torn_frames > 0 && r.separated_frames > 0,
+        "seed {seed}: no torn sheet ({} torn, {} separated frames)",
+        r.torn_frames,
+        r.separated_frames
+    );
     println!(
         "seed {seed}: {} holds, the sheet asleep at most {} frames after the rig stopped",
         r.holds, r.max_settle_frames

@@ -24,6 +24,16 @@ pub struct PhaseTimes {
     pub geometry_ns: u64,
     /// Contacts, length-error metrics and the sound analysis.
     pub analysis_ns: u64,
+    /// The tear's macro tip and sound input (sim/tear.rs; its mesh steps run before the
+    /// phases, with the other mesh changes).
+    pub tear_ns: u64,
+}
+
+impl PhaseTimes {
+    /// The sum of the phases, nanoseconds.
+    pub fn total_ns(&self) -> u64 {
+        self.self_contact_ns + self.physics_ns + self.geometry_ns + self.analysis_ns + self.tear_ns
+    }
 }
 
 /// Lap timer over the phases of one frame; reads no clock while off.

@@ -64,8 +64,7 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
         .filter(|r| r.2)
         .map(|r| {
             let p = r.3;
-            (r.0 as f64 - (p.self_contact_ns + p.physics_ns + p.geometry_ns + p.analysis_ns) as f64)
-                * 1e-6
+            (r.0 as f64 - p.total_ns() as f64) * 1e-6
         })
         .collect();
     println!(
@@ -84,16 +83,16 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
         v[v.len() / 2] as f64 * 1e-6
     };
     println!(
-        "phase medians: self {:.3} phys {:.3} geom {:.3} anal {:.3} ms",
+        "phase medians: self {:.3} phys {:.3} geom {:.3} anal {:.3} tear {:.4} ms",
         phase_median(&|p| p.self_contact_ns),
         phase_median(&|p| p.physics_ns),
         phase_median(&|p| p.geometry_ns),
-        phase_median(&|p| p.analysis_ns)
+        phase_median(&|p| p.analysis_ns),
+        phase_median(&|p| p.tear_ns)
     );
     rows.sort_by_key(|r| std::cmp::Reverse(r.0));
     for (ns, f, pending, p, it, sub) in rows.iter().take(top) {
-        let other =
-            *ns as i64 - (p.self_contact_ns + p.physics_ns + p.geometry_ns + p.analysis_ns) as i64;
+        let other = *ns as i64 - p.total_ns() as i64;
         println!(
             "frame {f:5} {:6.3} ms  adopt {pending:5}  self {:5.3} phys {:5.3} geom {:5.3} anal {:5.3} other {:5.3}  it {it} / {sub}",
             *ns as f64 * 1e-6,
