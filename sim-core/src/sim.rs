@@ -124,6 +124,7 @@ mod remesh;
 mod saved;
 mod substep;
 pub mod tear;
+pub mod tear_hands;
 mod undo;
 
 pub use phase_times::PhaseTimes;
@@ -781,7 +782,9 @@ impl Sim {
         self.phase_ns.self_contact_ns = self.stopwatch.lap_ns();
         // The gestures (not the sheet's pull on the hands) move the sheet this frame: the
         // isometry step's trigger (geometry/isometry.rs "When it runs").
-        let driven = planes_moved || self.obstacles.is_moving() || self.rig.is_moving();
+        let tear_hands_moving = self.tear_hands_frame();
+        let driven =
+            planes_moved || self.obstacles.is_moving() || self.rig.is_moving() || tear_hands_moving;
         self.rig.advance_frame(
             dt,
             frame_scale,
@@ -796,8 +799,7 @@ impl Sim {
         self.frame_normals_saved = false;
         for s in 1..=n_sub {
             let frac = f64::from(s) / f64::from(n_sub);
-            self.rig
-                .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
+            self.fill_held(frac);
             self.split_start_saved = false;
             let mut r = self.solve_substep(h);
             let mut again_stood = false;
@@ -864,6 +866,7 @@ impl Sim {
             self.geometry.sync_positions(&self.sheet.sp);
             self.rig
                 .regrip(&self.sheet.sp.pos, &self.strain_limit.moved);
+            self.tear_hands_regrip();
         }
         self.phase_ns.geometry_ns = self.stopwatch.lap_ns();
         let mut relaxed_undone = false;
@@ -919,6 +922,7 @@ impl Sim {
             f64::INFINITY
         };
         let quiet = !planes_moved
+            && !tear_hands_moving
             && !self.tear.pending
             && self.tear.drive_rad == self.rig.state.smoothed[GestureParam::TearAmount.index()]
             && !self.rig.is_moving()

@@ -42,8 +42,7 @@ impl Sim {
         self.split_start_saved = true;
         self.sheet.sp.vel.fill(V3::zeros());
         self.rig.undo_frame_motion();
-        self.rig
-            .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
+        self.fill_held(frac);
         let second = self.solve_substep(h);
         let sp = &mut self.sheet.sp;
         let start = self.physics.substep_start();
@@ -61,8 +60,7 @@ impl Sim {
         sp.pos.clone_from(&self.stalled_pos);
         sp.vel.clone_from(&self.stalled_vel);
         self.rig.state.hands = hands;
-        self.rig
-            .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
+        self.fill_held(frac);
         Some((false, second))
     }
 
@@ -121,8 +119,7 @@ impl Sim {
         // Where a held vertex is away from where its hand held it at the substep's start (the
         // hand slipped or took a new grip since), a second ladder moves it there in equal parts
         // over the split instead of in its first substep.
-        self.rig
-            .fill_kinematics(frac0, &mut self.fixed, &mut self.kin_target);
+        self.fill_held(frac0);
         self.split_jump.clear();
         self.split_jump.extend(
             self.split_start_pos
@@ -160,11 +157,7 @@ impl Sim {
             let mut turned = false;
             for k in 1..=n {
                 let part = f64::from(k) / f64::from(n);
-                self.rig.fill_kinematics(
-                    frac0 + (frac - frac0) * part,
-                    &mut self.fixed,
-                    &mut self.kin_target,
-                );
+                self.fill_held(frac0 + (frac - frac0) * part);
                 if fade {
                     for (t, j) in self.kin_target.iter_mut().zip(&self.split_jump) {
                         *t += j * (1.0 - part);
@@ -212,8 +205,7 @@ impl Sim {
         let Some(b) = best else {
             // No split did better: the first solve stands.
             self.metrics.set_previous_normals(&self.split_start_normals);
-            self.rig
-                .fill_kinematics(frac, &mut self.fixed, &mut self.kin_target);
+            self.fill_held(frac);
             return Some((false, discarded));
         };
         self.metrics.set_previous_normals(&self.split_best_normals);

@@ -99,6 +99,9 @@ pub struct TearProgress {
     /// The hands' rotation, radians: `tear_amount` low-passed ([`TEAR_SMOOTHING_S`]).
     #[serde(default)]
     pub drive_rad: f64,
+    /// The tearing hands (sim/tear_hands.rs).
+    #[serde(default)]
+    pub hands: super::tear_hands::TearHands,
     /// Macro path length at the last mesh step tried (a step that could not be made is tried
     /// again once the tip has moved on).
     pub tried_at_m: f64,
@@ -249,7 +252,7 @@ impl TearProgress {
         if self.mesh_tip.is_some_and(|v| v as usize >= num_vertices) {
             return Err("the tear's tip vertex is not in the mesh".into());
         }
-        Ok(())
+        self.hands.validate(num_vertices)
     }
 }
 
@@ -260,6 +263,37 @@ impl super::Sim {
     /// The tear's state.
     pub fn tear(&self) -> &TearProgress {
         &self.tear
+    }
+
+    /// The kinematic constraints at fraction `s` of the frame: the gesture hands', then the
+    /// tearing hands' on the vertices the gesture hands leave (sim/tear_hands.rs).
+    pub(super) fn fill_held(&mut self, s: f64) {
+        self.rig
+            .fill_kinematics(s, &mut self.fixed, &mut self.kin_target);
+        self.tear
+            .hands
+            .fill(s, &mut self.fixed, &mut self.kin_target);
+    }
+
+    /// The tearing hands before the substeps: they let go when `tear_amount` is back at 0
+    /// and lift as the tear grows. Returns whether they move this frame.
+    pub(super) fn tear_hands_frame(&mut self) -> bool {
+        let amount = self.rig.state.smoothed[crate::control::GestureParam::TearAmount.index()];
+        if self.tear.hands.active && amount <= 0.0 {
+            self.tear.hands.release();
+            return true;
+        }
+        self.tear.hands.advance(self.tear.path_length_m)
+    }
+
+    /// After the strain limit moved held vertices: the tearing hands slip with them.
+    pub(super) fn tear_hands_regrip(&mut self) {
+        let rig = &self.rig;
+        self.tear
+            .hands
+            .regrip(&self.sheet.sp.pos, &self.strain_limit.moved, |v| {
+                rig.hand_of(v).is_some()
+            });
     }
 
     /// This frame's tear (after the rig moved the gestures): advances the macro tip, announces
@@ -280,7 +314,17 @@ impl super::Sim {
             rand_pcg::Pcg32::seed_from_u64(self.cfg.seed ^ TEAR_STREAM).random_range(-1.0..=1.0)
         };
         let (w, l) = (self.sheet.width_m, self.sheet.length_m);
+        let was_started = self.tear.started;
         let moved_m = self.tear.advance(input, w, l, jitter);
+        if self.tear.started && !was_started {
+            let rig = &self.rig;
+            self.tear.hands.grab(
+                TearProgress::v(self.tear.start_m),
+                &self.sheet.sp.pattern,
+                &self.sheet.sp.pos,
+                |v| rig.hand_of(v).is_some(),
+            );
+        }
         let spacing_m = self.cfg.mesh.spacing_m(self.cfg.size);
         if self.tear.mesh_step_due(spacing_m) {
             self.tear.pending = true;

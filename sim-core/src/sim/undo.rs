@@ -71,11 +71,7 @@ impl Sim {
         ] {
             let h = dt / f64::from(n_sub);
             for s in 1..=n_sub {
-                self.rig.fill_kinematics(
-                    f64::from(s) / f64::from(n_sub),
-                    &mut self.fixed,
-                    &mut self.kin_target,
-                );
+                self.fill_held(f64::from(s) / f64::from(n_sub));
                 self.solve_substep(h);
                 self.limit_penetration();
             }
