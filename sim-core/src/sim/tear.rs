@@ -200,6 +200,10 @@ impl TearProgress {
         let exit = border_exit(tip0, heading, w, l);
         if (tip1 - tip0).norm() >= exit || theta >= FULL_TEAR_RAD {
             tip1 = tip0 + heading * exit;
+            if !self.reached_edge {
+                // The mesh follows to the border now, whatever a step found short before.
+                self.tried_at_m = -1.0;
+            }
             self.reached_edge = true;
         }
         let moved = (tip1 - tip0).norm();
@@ -355,9 +359,14 @@ impl super::Sim {
         let mut step = match advance_tear(&self.sheet.sp, from, to) {
             Ok(st) => st,
             // Too short to cross an edge yet (or, from the border, to make an edge of its
-            // own): the tip goes on and the step comes when it has moved.
-            Err(TearError::TooShort) if !self.tear.reached_edge => return,
-            Err(_) if self.tear.mesh_tip.is_none() && !self.tear.reached_edge => return,
+            // own): the tip goes on and the step is tried again a quarter edge further.
+            Err(e)
+                if !self.tear.reached_edge
+                    && (e == TearError::TooShort || self.tear.mesh_tip.is_none()) =>
+            {
+                self.tear.tried_at_m += 0.25 * spacing_m;
+                return;
+            }
             Err(_) => {
                 self.tear.refused_steps += 1;
                 return;
