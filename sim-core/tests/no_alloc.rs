@@ -180,7 +180,11 @@ fn stepping_applying_and_copying_the_mesh_do_not_allocate() {
     );
     assert!(snap.is_finite() && !snap.triangles.is_empty());
     assert!(sim.work_counter() > 0);
-    assert!(sim.tear().separated, "the sheet was torn in two");
+    assert!(
+        sim.tear().separated,
+        "the sheet was torn in two: {:?}",
+        sim.tear()
+    );
     // A reset may allocate (new sheet); afterwards the steady state is again free.
     sim.apply(Command::Reset);
     let n = count(|| refined = exercise(&mut sim, &mut out, &mut snap));

@@ -253,7 +253,7 @@ fn every_scene_renders_with_finite_meshes_inside_the_room() {
         .lines()
         .map(str::to_string)
         .collect();
-    assert_eq!(names.len(), 12, "{names:?}");
+    assert_eq!(names.len(), 14, "{names:?}");
     let mut walls_checked = 0usize;
     for name in &names {
         let script = sim_core::scenario::get(name).unwrap();

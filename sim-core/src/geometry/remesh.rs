@@ -18,6 +18,9 @@ impl GeometryLayer {
         seed: u64,
     ) -> Result<Self, String> {
         let mut saved = self.save();
+        // A tear that ran through a singular vertex made it a lip vertex (sim/tear.rs): it
+        // leaves the list with the sheet's (no other mesh change drops one).
+        saved.singular.retain(|s| sp.singular.contains(&s.0));
         saved.curved = tri_parent
             .iter()
             .map(|&t| self.curved[t as usize])

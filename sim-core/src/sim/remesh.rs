@@ -67,7 +67,9 @@ impl Sim {
                     tri_parent,
                     ..
                 } = ins;
-                self.adopt_mesh(mesh, &tri_parent).ok().map(|()| vertex)
+                self.adopt_mesh(mesh, &tri_parent, false)
+                    .ok()
+                    .map(|()| vertex)
             });
         match inserted {
             Some(v) => {
@@ -121,17 +123,24 @@ impl Sim {
         if self.proximity.any_crossing(&mesh) && !self.proximity.any_crossing(&self.sheet.sp) {
             return false;
         }
-        if self.adopt_mesh(mesh, tri_parent).is_err() {
+        if self.adopt_mesh(mesh, tri_parent, false).is_err() {
             return false;
         }
         self.sheet.sg.pull_positions(&self.sheet.sp);
         true
     }
 
-    /// Replaces S_P by `mesh` (refined or flipped: old vertices keep their index, new ones are
-    /// appended; `tri_parent` names each triangle's old triangle) and rebuilds what is sized by
-    /// it. Nothing changes if an error is returned.
-    pub(super) fn adopt_mesh(&mut self, mesh: PhysMesh, tri_parent: &[u32]) -> Result<(), String> {
+    /// Replaces S_P by `mesh` (refined, flipped or torn: old vertices keep their index, new
+    /// ones are appended; `tri_parent` names each triangle's old triangle) and rebuilds what is
+    /// sized by it. The hands are worked out afresh on the new mesh, or, with `keep_hand_defs`,
+    /// keep the vertices they hold (a tear changes the neighbours a hand would take). Nothing
+    /// changes if an error is returned.
+    pub(super) fn adopt_mesh(
+        &mut self,
+        mesh: PhysMesh,
+        tri_parent: &[u32],
+        keep_hand_defs: bool,
+    ) -> Result<(), String> {
         let n = mesh.num_vertices();
         let sg = GeomStructure::initial(&mesh);
         let mut sheet = Sheet {
@@ -152,6 +161,9 @@ impl Sim {
         )?;
         let mut rig = GestureRig::new(&sheet, self.cfg.room.home_height_m());
         rig.state = self.rig.state.clone();
+        if keep_hand_defs {
+            rig.restore_hand_defs(&self.rig.hand_defs_state())?;
+        }
         let (ownership, suppressed, pending) = self.rig.ownership_state();
         rig.restore_ownership(&ownership, suppressed, pending, false)?;
         // Old vertices keep their index: the contact boosts follow them.

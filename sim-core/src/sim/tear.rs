@@ -283,7 +283,9 @@ impl super::Sim {
     /// and lift as the tear grows. Returns whether they move this frame.
     pub(super) fn tear_hands_frame(&mut self) -> bool {
         let amount = self.rig.state.smoothed[crate::control::GestureParam::TearAmount.index()];
-        if self.tear.hands.active && amount <= 0.0 {
+        // Back at 0 the hands let go; a gesture hand holding the sheet takes it over (two sets
+        // of hard grips would fight over it).
+        if self.tear.hands.active && (amount <= 0.0 || self.rig.num_active_hands() > 0) {
             self.tear.hands.release();
             return true;
         }
@@ -320,7 +322,7 @@ impl super::Sim {
         let (w, l) = (self.sheet.width_m, self.sheet.length_m);
         let was_started = self.tear.started;
         let moved_m = self.tear.advance(input, w, l, jitter);
-        if self.tear.started && !was_started {
+        if self.tear.started && !was_started && self.rig.num_active_hands() == 0 {
             let rig = &self.rig;
             self.tear.hands.grab(
                 TearProgress::v(self.tear.start_m),
@@ -378,7 +380,7 @@ impl super::Sim {
         step.mesh.singular.retain(|&v| !on_boundary[v as usize]);
         self.geometry.start_events_early();
         self.wake();
-        if self.adopt_mesh(step.mesh, &step.tri_parent).is_err() {
+        if self.adopt_mesh(step.mesh, &step.tri_parent, true).is_err() {
             self.tear.refused_steps += 1;
             return;
         }

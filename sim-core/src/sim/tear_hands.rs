@@ -16,6 +16,9 @@
 //! and the geometry layer, as every other cone of the sheet does.
 //!
 //! Decisions, one line each:
+//! - The tearing hands hold only a sheet no gesture hand holds: a grab lets them go, and a tear
+//!   started in the gesture hands runs without them (two sets of hard grips fought over the
+//!   sheet in the hostile stress runs: a sheet held still never slept, a triangle turned over).
 //! - A vertex a gesture hand holds stays with that hand (the user's hands come first).
 //! - Where the strain limit moves a held vertex, the grip slips by the mean move (as the
 //!   gesture hands do, `GestureRig::regrip`): paper does not stretch under the tearing hands.
