@@ -61,6 +61,11 @@ fn tear(
             (area(&sim) - w * l).abs() <= 1e-9 * w * l,
             "frame {k}: area"
         );
+        // With the area conserved, no pattern triangle turned over means none overlaps.
+        assert!(
+            sp.tri_rest.iter().all(|t| t.area_m2 > 0.0),
+            "frame {k}: a flat triangle"
+        );
         assert!(sp.pos.iter().all(|p| p.iter().all(|c| c.is_finite())));
         let t = out.sound.tear;
         assert!(t.length_m >= last_length, "torn length decreased");

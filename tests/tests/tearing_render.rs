@@ -2,7 +2,7 @@
 //! performance (CC 28 places the tear, CC 26 ramps the tear amount 0 → 127) with the crumple
 //! and friction mixes off leaves the sheet in two pieces in its last OBJ frame and sounds; the
 //! tear is silent before it starts and sounds within 5 ms of the first frame its tip moves
-//! (`--write-frames`); a faster ramp tears faster and louder.
+//! (`--write-frames`); a faster ramp tears faster and louder, and a slower one crackles more.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -199,9 +199,13 @@ fn a_faster_tear_is_louder() {
             .map(|f| f64::from(f.tear.speed_m_s))
             .sum::<f64>()
             / moving.len() as f64;
-        (rms_db(&t.left[a..b]), mean_speed)
+        (
+            rms_db(&t.left[a..b]),
+            mean_speed,
+            envelope_kurtosis(&t.left[a..b]),
+        )
     };
-    let ((slow_db, slow_v), (fast_db, fast_v)) = (level(&slow), level(&fast));
+    let ((slow_db, slow_v, slow_k), (fast_db, fast_v, fast_k)) = (level(&slow), level(&fast));
     assert!(
         (fast_v / slow_v - 2.0).abs() < 0.2,
         "twice the ramp rate: speeds {slow_v:.4} and {fast_v:.4} m/s"
@@ -210,4 +214,22 @@ fn a_faster_tear_is_louder() {
         fast_db > slow_db + 3.0,
         "twice as fast: {slow_db:.1} → {fast_db:.1} dBFS"
     );
+    // A slow tear crackles more (M:136): its 1 ms energy envelope is the more impulsive.
+    assert!(
+        slow_k > fast_k,
+        "envelope kurtosis: slow {slow_k:.1}, fast {fast_k:.1}"
+    );
+}
+
+/// Kurtosis of the energy envelope in 1 ms windows (3 for a steady Gaussian envelope, large for
+/// sparse bursts).
+fn envelope_kurtosis(x: &[f32]) -> f64 {
+    let n = (RATE_HZ / 1000.0) as usize;
+    let e: Vec<f64> = x
+        .chunks_exact(n)
+        .map(|c| c.iter().map(|&v| f64::from(v) * f64::from(v)).sum::<f64>() / n as f64)
+        .collect();
+    let mean = e.iter().sum::<f64>() / e.len() as f64;
+    let var = e.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / e.len() as f64;
+    e.iter().map(|v| (v - mean).powi(4)).sum::<f64>() / e.len() as f64 / (var * var)
 }
