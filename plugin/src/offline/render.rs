@@ -269,6 +269,16 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
                     not_in_log.clone(),
                 )?;
             }
+            // The OBJ frames due here, before the sub-block's end is set by the next one (an
+            // OBJ frame written after it ended a sub-block only at the block's end).
+            if let Some(dir) = &opts.obj_dir {
+                while obj_at(next_obj) <= sub {
+                    if let Some(sim) = engine.lockstep_sim() {
+                        write_obj(dir, next_obj, sim, &mut mesh)?;
+                    }
+                    next_obj += 1;
+                }
+            }
             // The sub-block ends at the next parameter change or OBJ frame.
             let mut sub_end = block_end;
             let mut k = next_event;
@@ -290,14 +300,6 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
                         next_event += 1;
                     }
                     HostEvent::Param { .. } => break,
-                }
-            }
-            if let Some(dir) = &opts.obj_dir {
-                while obj_at(next_obj) <= sub {
-                    if let Some(sim) = engine.lockstep_sim() {
-                        write_obj(dir, next_obj, sim, &mut mesh)?;
-                    }
-                    next_obj += 1;
                 }
             }
             let n = (sub_end - sub) as usize;
