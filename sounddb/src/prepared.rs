@@ -25,12 +25,17 @@
 //!
 //! ## Friction frame length at other rates
 //!
-//! The seeds use M = 2048 samples (≈ 46 ms) with hop 1024 at 44.1 kHz (T 1903, T 1830). At other
-//! rates we keep the frame at 46.4 ms ± 2 % — so the bin spacing stays 21.5 Hz and the friction
-//! noise has the same spectral resolution at every rate — with the even length closest to
-//! fs · 2048 / 44100 whose only prime factors are 2, 3, 5, 7 (mixed-radix FFTs stay fast):
-//! 8 kHz → 378 (47.3 ms; hop 189), 44.1 kHz → 2048, 48 kHz → 2240 (46.7 ms), 88.2 kHz → 4096,
-//! 96 kHz → 4480, 192 kHz → 8960 (46.7 ms). The hop is M/2 (≈ 23 ms).
+//! The seeds use M = 2048 samples (≈ 46 ms) with hop 1024 at 44.1 kHz (T 1903, T 1830). We keep
+//! the frame at 7/150 s = 46.67 ms ± 2 % at every rate — the even length closest to fs · 7/150
+//! whose only prime factors are 2, 3, 5, 7 (mixed-radix FFTs stay fast): 44.1 kHz → 2058,
+//! 48 kHz → 2240, 88.2 kHz → 4116, 96 kHz → 4480, 176.4 kHz → 8232, 192 kHz → 8960, all exactly
+//! 46.67 ms; 8 kHz → 378 (47.3 ms; hop 189), 22.05 kHz → 1024 (46.4 ms). The hop is M/2.
+//! Decision: 7/150 s and not the seeds' 2048/44 100 s (0.5 % shorter), because at the common
+//! rates the frames then have the same duration, their bins the same frequencies (21.43 Hz
+//! apart) and their hops the same times: a friction source gets the same random-phase frames at
+//! 44.1 and 48 kHz, so the two renders agree band by band (with 2048 at 44.1 kHz the hop grid
+//! drifted 0.5 % against 48 kHz's and the short friction bursts of a crumple differed by up to
+//! 1.5 dB in the 80 Hz band: docs/decisions.md, "One take at every sample rate").
 //!
 //! ## Units at a reduced rate above 88 kHz
 //!
@@ -49,18 +54,21 @@ use crate::database::{Database, DbInfo};
 use crate::resample::{Resampler, spectrum_band_power};
 use crate::{DbError, Warning};
 
+/// Duration of a friction iFFT frame, seconds (module docs: the same at 44.1 and 48 kHz).
+pub const FRICTION_FRAME_S: f64 = 7.0 / 150.0;
+
 /// Zeros stored before and after each prepared unit.
 pub const UNIT_PAD: usize = 4;
 
 /// Friction iFFT frame length M for a sample rate (see the module docs): the even, 7-smooth
-/// (factors 2, 3, 5, 7 only — fast mixed-radix FFTs) length closest to fs · 2048 / 44100.
+/// (factors 2, 3, 5, 7 only — fast mixed-radix FFTs) length closest to fs · 7/150 s.
 pub fn friction_frame_len(sample_rate_hz: f64) -> usize {
     let rate = if sample_rate_hz.is_finite() && sample_rate_hz > 0.0 {
         sample_rate_hz
     } else {
         44_100.0
     };
-    let target = (rate * 2048.0 / 44_100.0).clamp(256.0, 16_384.0);
+    let target = (rate * FRICTION_FRAME_S).clamp(256.0, 16_384.0);
     let smooth = |mut n: usize| {
         for p in [2, 3, 5, 7] {
             while n.is_multiple_of(p) {
@@ -433,13 +441,19 @@ mod tests {
     fn frame_lengths_stay_near_46_ms() {
         for (rate, m) in [
             (22_050.0, 1024),
-            (44_100.0, 2048),
+            (44_100.0, 2058),
             (48_000.0, 2240),
-            (88_200.0, 4096),
+            (88_200.0, 4116),
             (96_000.0, 4480),
+            (176_400.0, 8232),
             (192_000.0, 8960),
         ] {
             assert_eq!(friction_frame_len(rate), m, "{rate}");
+        }
+        // The common rates' frames last exactly the same (their hops fall at the same times).
+        for rate in [44_100.0, 48_000.0, 88_200.0, 96_000.0, 176_400.0, 192_000.0] {
+            let m = friction_frame_len(rate) as f64;
+            assert!((m / rate - FRICTION_FRAME_S).abs() < 1e-12, "{rate}");
         }
         for rate in [
             8_000.0, 11_025.0, 16_000.0, 32_000.0, 44_100.0, 48_000.0, 176_400.0, 192_000.0,

@@ -205,3 +205,48 @@ fn the_other_seed_scenes_are_the_same_at_every_rate_b() {
         &RATES,
     );
 }
+
+/// The 44.1 and 48 kHz renders of the crumples are the same performance band by band: every
+/// 1/3-octave level from 79 Hz to 16 kHz within 0.5 dB (the friction frames last 7/150 s at both
+/// rates, so a source gets the same random-phase frames at the same times; `sounddb::prepared`).
+#[test]
+fn the_crumples_sound_the_same_at_44_1_and_48_khz_band_by_band() {
+    use sounddb::analysis::{third_octave_centres_hz, third_octave_levels_db, welch_psd};
+    let dir = tempfile_dir();
+    let levels = |scene: &str, rate: u32| {
+        let out = dir.join(format!("{scene}_{rate}.wav"));
+        let o = Command::new(paths::papier_render())
+            .args([
+                "--scene",
+                scene,
+                "--sample-rate",
+                &rate.to_string(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let (_, l, r) = papier_tests::audio::read_stereo(&out);
+        let mono: Vec<f32> = l.iter().zip(&r).map(|(a, b)| 0.5 * (a + b)).collect();
+        // The same analysis window in seconds at both rates (85 ms, 11.7 Hz bins).
+        let n = (f64::from(rate) * 4096.0 / 48_000.0).round() as usize;
+        let psd = welch_psd(&mono, f64::from(rate), n);
+        third_octave_levels_db(&psd, f64::from(rate) / n as f64)
+    };
+    let centres = third_octave_centres_hz();
+    for scene in ["s4_crumple", "c5_full_crumple"] {
+        let (a, b) = (levels(scene, 44_100), levels(scene, 48_000));
+        for (k, &fc) in centres.iter().enumerate() {
+            if (75.0..=16_500.0).contains(&fc) {
+                assert!(
+                    (a[k] - b[k]).abs() <= 0.5,
+                    "{scene}: {fc:.0} Hz band {:.2} dB at 44.1 kHz, {:.2} dB at 48 kHz",
+                    a[k],
+                    b[k]
+                );
+            }
+        }
+    }
+}

@@ -13,10 +13,11 @@
 //!
 //! - **Magnitudes** (not powers), as S 149 says and v_k = s_k e^{iφ} implies.
 //! - **Real output**: a real inverse FFT of size M (`realfft`) on M/2 + 1 bins; DC and Nyquist
-//!   bins are 0 (they must be real). M = 2048 and hop 1024 at 44.1 kHz (T 1903); at other rates
-//!   M = `sounddb::friction_frame_len`: the even length with factors 2, 3, 5, 7 closest to
-//!   fs · 2048/44100, so the frame stays 46.4 ms ± 2 % and the bins 21.5 Hz apart at every rate
-//!   (48 kHz → 2240, 96 kHz → 4480, 192 kHz → 8960, 8 kHz → 378). The database spectra are moved
+//!   bins are 0 (they must be real). The seeds use M = 2048 and hop 1024 at 44.1 kHz (T 1903);
+//!   here M = `sounddb::friction_frame_len`: the even length with factors 2, 3, 5, 7 closest to
+//!   fs · 7/150 s, so the frame lasts 46.67 ms and the bins lie 21.43 Hz apart at every common
+//!   rate (44.1 kHz → 2058, 48 kHz → 2240, 96 kHz → 4480, 192 kHz → 8960; 8 kHz → 378): the
+//!   same frames at the same times at 44.1 and 48 kHz. The database spectra are moved
 //!   onto these bins
 //!   and scaled at load time (`sounddb::prepared`), never here.
 //! - **Window**: successive frames are independent noise, so the overlap uses the
@@ -636,9 +637,10 @@ mod tests {
                 &mut counters,
             );
         }
-        // The Nyquist bin is always 0, so the comb is computed for the 1 024 bins below it.
-        assert_eq!(db.friction_active_bins(), 1024);
-        assert_eq!(counters.friction_comb_bins, 2 * 1024, "{counters:?}");
+        // The Nyquist bin is always 0, so the comb is computed for the 1 029 bins below it
+        // (M = 2058 at 44.1 kHz).
+        assert_eq!(db.friction_active_bins(), 1029);
+        assert_eq!(counters.friction_comb_bins, 2 * 1029, "{counters:?}");
         assert_eq!(counters.friction_comb_cache_hits, 2 * 8);
     }
 }
