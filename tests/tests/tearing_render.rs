@@ -44,6 +44,34 @@ struct Take {
     last_obj: PathBuf,
 }
 
+/// Renders MIDI file `mid` to `wav` with OBJ frames at 10 fps in `objs` and the `extra`
+/// options; returns the OBJ files in order.
+fn render_midi(mid: &Path, wav: &Path, objs: &Path, extra: &[&str]) -> Vec<PathBuf> {
+    let mut args = vec![
+        "--midi",
+        s(mid),
+        "--out",
+        s(wav),
+        "--obj-dir",
+        s(objs),
+        "--obj-fps",
+        "10",
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    let o = Command::new(paths::papier_render())
+        .args(&args)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut files: Vec<PathBuf> = std::fs::read_dir(objs)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    files
+}
+
 fn render(dir: &Path, name: &str, pos: f32, ramp_s: f64) -> Take {
     let mid = dir.join(format!("{name}.mid"));
     tear_midi(&mid, pos, ramp_s);
@@ -52,27 +80,19 @@ fn render(dir: &Path, name: &str, pos: f32, ramp_s: f64) -> Take {
         dir.join(format!("{name}_obj")),
         dir.join(format!("{name}.jsonl")),
     );
-    let o = Command::new(paths::papier_render())
-        .args([
-            "--midi",
-            s(&mid),
-            "--out",
-            s(&wav),
-            "--obj-dir",
-            s(&objs),
-            "--obj-fps",
-            "10",
+    let mut files = render_midi(
+        &mid,
+        &wav,
+        &objs,
+        &[
             "--write-frames",
             s(&log),
             "--set",
             "mix_crumple_db=-60",
             "--set",
             "mix_friction_db=-60",
-            "--quiet",
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        ],
+    );
     let (rate, left, right) = read_stereo(&wav);
     assert_eq!(f64::from(rate), RATE_HZ);
     assert!(all_finite_normal(&left) && all_finite_normal(&right));
@@ -82,11 +102,6 @@ fn render(dir: &Path, name: &str, pos: f32, ramp_s: f64) -> Take {
         .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&objs)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    files.sort();
     Take {
         left,
         right,
@@ -244,28 +259,7 @@ fn a_tear_renders_the_same_bits_at_every_block_size() {
     let mut takes = Vec::new();
     for (k, block) in ["512", "1", "37", "16384", "512"].iter().enumerate() {
         let (wav, objs) = (dir.join(format!("{k}.wav")), dir.join(format!("obj{k}")));
-        let o = Command::new(paths::papier_render())
-            .args([
-                "--midi",
-                s(&mid),
-                "--out",
-                s(&wav),
-                "--obj-dir",
-                s(&objs),
-                "--obj-fps",
-                "10",
-                "--block",
-                block,
-                "--quiet",
-            ])
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let mut files: Vec<PathBuf> = std::fs::read_dir(&objs)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .collect();
-        files.sort();
+        let files = render_midi(&mid, &wav, &objs, &["--block", block]);
         assert_eq!(obj_pieces(files.last().unwrap()), 2, "block {block}");
         let objs: Vec<Vec<u8>> = files.iter().map(|f| std::fs::read(f).unwrap()).collect();
         takes.push((std::fs::read(&wav).unwrap(), objs));
