@@ -102,7 +102,7 @@ use self::db_picker::DbPicker;
 use self::grab_pad::{GrabPad, GrabTarget, zones};
 use self::layout_probe::LayoutProbe;
 use self::meters_panel::MetersPanel;
-use self::param_widgets::{choice_row, inactive_slider_row, slider_row, toggle_row};
+use self::param_widgets::{choice_row, slider_row, toggle_row};
 use self::sheet_view::SheetView;
 use self::shell::Session;
 use self::window_size::MIN_SIZE;
@@ -121,10 +121,6 @@ pub const CONTROLS_WIDTH_PX: f32 = 400.0;
 pub const XY_PAD_PX: f32 = 150.0;
 /// Size of the grab pad diagram, logical pixels.
 pub const GRAB_PAD_PX: [f32; 2] = [130.0, 150.0];
-/// Hover text of the gestures that have no effect yet ([`GestureParam::moves_the_sheet`]).
-const NOT_YET: &str = "No effect yet: pulling the sheet apart is not simulated in this build (the \
-                       tear gestures are). The value is kept (automation, saved projects).";
-
 /// Everything of the plugin the editor may touch (see the module docs).
 #[derive(Clone)]
 pub struct EditorParts {
@@ -266,11 +262,7 @@ impl PapierEditor {
                     .spacing([10.0, 4.0])
                     .show(ui, |ui| {
                         for g in GestureParam::ALL {
-                            if g.moves_the_sheet() {
-                                slider_row(ui, p.gestures.get(g), setter);
-                            } else {
-                                inactive_slider_row(ui, p.gestures.get(g), setter, NOT_YET);
-                            }
+                            slider_row(ui, p.gestures.get(g), setter);
                         }
                     });
             });

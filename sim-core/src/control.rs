@@ -277,18 +277,6 @@ impl GestureParam {
         }
     }
 
-    /// False for the pull gestures: stored (parameters, automation, saved projects) but
-    /// without effect on the sheet in this build (the general tearing criterion is a later
-    /// step of Tearing I). The editor marks them so (tested in `sim.rs`: changing one of them
-    /// leaves the sheet bit-identical, changing any other moves it; the tear's steer and place
-    /// move it once the tear runs).
-    pub const fn moves_the_sheet(self) -> bool {
-        !matches!(
-            self,
-            GestureParam::PullSeparation | GestureParam::PullAsymmetry
-        )
-    }
-
     /// True for the bipolar gestures whose MIDI CC value 64 means "centre".
     pub const fn is_bipolar(self) -> bool {
         matches!(

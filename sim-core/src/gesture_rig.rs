@@ -48,8 +48,8 @@
 //!
 //! Gesture values follow slew-rate limits derived from the travel clamp (a jump becomes a sweep:
 //! a twist jump turns the hands along arcs instead of through each other), then each pose is
-//! clamped again. Tear and pull are stored but have no effect yet
-//! ([`GestureParam::moves_the_sheet`]).
+//! clamped again. Tear and pull move the sheet through the tear (sim/tear.rs) and its hands
+//! (sim/tear_hands.rs), not through this rig.
 //!
 //! ## Grip and obstacles
 //!
@@ -613,6 +613,9 @@ impl GestureRig {
             GestureParam::ShakeDepth => clamp_m / (SHAKE_AMPLITUDE_FRAC * l),
             // The hands' rotation (radians) that tears (sim/tear.rs).
             GestureParam::TearAmount => max_angle,
+            // The pulling hands' force rises over at least 0.2 s (a jump is a firm pull, not
+            // an impulse).
+            GestureParam::PullSeparation => 0.025 * max_angle / ROTATION_CLAMP_RAD,
             _ => f64::INFINITY,
         }
     }

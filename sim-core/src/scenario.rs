@@ -20,6 +20,8 @@
 //! | `s6_slide_on_table` | S6: sliding on a table (T Fig. 4.16) |
 //! | `t1_two_hand_tear` | T1: two hands tear a sheet on the table in two (M §3–4, T Fig. 3.9) |
 //! | `t2_steered_tear` | T2: the hands' balance steers the tear left and right (T Fig. 3.10) |
+//! | `t3_pull_equal` | T3: an equal pull tears straight along the mediator (T Fig. 3.28) |
+//! | `t4_pull_unequal` | T4: an unequal pull tears along a hyperbola (T Fig. 3.29) |
 
 use thiserror::Error;
 
@@ -49,6 +51,8 @@ scenarios!(
     "s6_slide_on_table",
     "t1_two_hand_tear",
     "t2_steered_tear",
+    "t3_pull_equal",
+    "t4_pull_unequal",
 );
 
 /// Why a scenario could not be loaded.
@@ -132,7 +136,7 @@ mod tests {
 
     #[test]
     fn every_scenario_parses_and_validates() {
-        assert_eq!(names().count(), 14);
+        assert_eq!(names().count(), 16);
         for name in names() {
             let s = get(name).unwrap_or_else(|e| panic!("{e}"));
             validate(&s).unwrap_or_else(|e| panic!("{name}: {e}"));

@@ -2,13 +2,11 @@
 //! whatever the steer, the torn mesh keeps its invariants in every frame, the mesh changes
 //! are announced, the tear sounds while it moves, and a save mid-tear continues exactly.
 
+mod common;
+
 use sim_core::control::{Command, GestureParam, SheetSize};
 use sim_core::scenario_run::state_hash;
 use sim_core::sim::{FrameOutput, Sim, SimConfig};
-
-fn area(sim: &Sim) -> f64 {
-    sim.sheet().sp.tri_rest.iter().map(|t| t.area_m2).sum()
-}
 
 fn set(sim: &mut Sim, param: GestureParam, value: f32) {
     sim.apply(Command::Gesture { param, value });
@@ -46,27 +44,7 @@ fn tear(
         if sim.sheet().sp.num_vertices() != vertices_before {
             assert!(announced, "frame {k}: an unannounced mesh change");
         }
-        let sp = &sim.sheet().sp;
-        sp.topo.validate().unwrap();
-        let pieces = sp
-            .topo
-            .validate_pieces()
-            .unwrap_or_else(|e| panic!("frame {k}: {e}"));
-        assert!(pieces <= 2);
-        sim.sheet()
-            .sg
-            .validate(sp)
-            .unwrap_or_else(|e| panic!("frame {k}: {e}"));
-        assert!(
-            (area(&sim) - w * l).abs() <= 1e-9 * w * l,
-            "frame {k}: area"
-        );
-        // With the area conserved, no pattern triangle turned over means none overlaps.
-        assert!(
-            sp.tri_rest.iter().all(|t| t.area_m2 > 0.0),
-            "frame {k}: a flat triangle"
-        );
-        assert!(sp.pos.iter().all(|p| p.iter().all(|c| c.is_finite())));
+        common::check_torn_mesh(&sim, k, w, l);
         let t = out.sound.tear;
         assert!(t.length_m >= last_length, "torn length decreased");
         last_length = t.length_m;

@@ -6,12 +6,9 @@
 //!
 //! - [`slider_row`]: a labelled [`ParamSlider`] (drag, shift-drag for fine steps, double-click
 //!   to reset, click the value to type one);
-//! - [`inactive_slider_row`]: the same for a parameter that is stored but has no effect yet,
-//!   its name greyed and the reason shown on hover;
 //! - [`choice_row`]: an enum parameter as a row of buttons;
 //! - [`toggle_row`]: a bool parameter as a checkbox.
 
-use egui::RichText;
 use nice_plug::context::gui::ParamSetter;
 use nice_plug::prelude::{BoolParam, Enum, EnumParam, Param};
 use nice_plug_egui::widgets::ParamSlider;
@@ -23,17 +20,6 @@ pub const SLIDER_WIDTH_PX: f32 = 150.0;
 pub fn slider_row(ui: &mut egui::Ui, param: &impl Param, setter: &ParamSetter) {
     ui.label(param.name());
     ui.add(ParamSlider::for_param(param, setter).with_width(SLIDER_WIDTH_PX));
-    ui.end_row();
-}
-
-/// A grid row like [`slider_row`] for a parameter that is stored (automation, saved projects)
-/// but has no effect in this build: the name is greyed and `why` shows on hover over the name
-/// and the slider. The slider still works, so a value set now is kept for a later build.
-pub fn inactive_slider_row(ui: &mut egui::Ui, param: &impl Param, setter: &ParamSetter, why: &str) {
-    ui.label(RichText::new(param.name()).weak())
-        .on_hover_text(why);
-    ui.add(ParamSlider::for_param(param, setter).with_width(SLIDER_WIDTH_PX))
-        .on_hover_text(why);
     ui.end_row();
 }
 

@@ -4,6 +4,7 @@
 //! papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
 //!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
 //!               [--obj-dir DIR] [--obj-fps N] [--db DIR] [--write-frames FILE.jsonl] [--quiet]
+//!               [--realtime]
 //! papier-render --frames FILE.jsonl --out FILE.wav
 //!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
 //! ```
@@ -15,7 +16,9 @@
 //! render path without simulating a sheet ([`super::frame_replay`]); it is an input of its own
 //! and cannot be combined with other inputs, `--obj-dir`, `--write-frames` or `--write-midi`
 //! (a log holds sounds, not gestures or a sheet). `--write-frames` records the sound frames of a
-//! simulated render as such a log.
+//! simulated render as such a log. `--realtime` plays the inputs at the pace of the audio clock
+//! with the sheet on its own thread, as a host plays the plugin live, and reports the frames that
+//! thread skipped (a measurement of the live worker, not a reproducible render: no OBJ, no log).
 
 use std::path::PathBuf;
 
@@ -64,6 +67,8 @@ pub struct RenderOptions {
     pub write_frames: Option<PathBuf>,
     /// Print only errors.
     pub quiet: bool,
+    /// Play in real time with the simulation on its own thread (the live worker).
+    pub realtime: bool,
 }
 
 impl RenderOptions {
@@ -83,6 +88,7 @@ impl RenderOptions {
             db: None,
             write_frames: None,
             quiet: false,
+            realtime: false,
         }
     }
 }
@@ -112,6 +118,7 @@ pub const USAGE: &str =
     "usage: papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
                      [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
                      [--obj-dir DIR] [--obj-fps N] [--db DIR] [--write-frames FILE.jsonl] [--quiet]
+                     [--realtime]
        papier-render --frames FILE.jsonl --out FILE.wav
                      [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
        papier-render --list-scenes
@@ -135,7 +142,10 @@ Renders Papier offline (the plugin's engine, stepped in lockstep with the audio)
                      header comment gives the --set options that replay it)
   --write-midi FILE  write the inputs as a MIDI performance (README map: grabs as notes,
                      gestures as CCs) instead of rendering; prints the --set options it needs
-  --quiet            print only errors";
+  --quiet            print only errors
+  --realtime         play at the audio clock's pace with the sheet simulated on its own thread,
+                     as a host plays the plugin live; reports the frames that thread skipped
+                     (the output is not reproducible; no --obj-dir, --write-frames or --frames)";
 
 /// Parses the arguments (without the program name). The error is one line.
 pub fn parse(args: &[String]) -> Result<Cli, String> {
@@ -151,6 +161,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
     let mut db = defaults.db;
     let mut write_frames = defaults.write_frames;
     let mut quiet = defaults.quiet;
+    let mut realtime = defaults.realtime;
     let mut write_midi = None;
 
     let mut i = 0;
@@ -222,6 +233,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
             "--write-midi" => write_midi = Some(PathBuf::from(value("--write-midi")?)),
             "--write-frames" => write_frames = Some(PathBuf::from(value("--write-frames")?)),
             "--quiet" | "-q" => quiet = true,
+            "--realtime" => realtime = true,
             other => return Err(format!("unknown option {other:?} (see --help)")),
         }
         i += 1;
@@ -245,6 +257,16 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
         }
         if write_midi.is_some() {
             return Err("--write-midi exports gestures; a frame log holds only sounds".into());
+        }
+    }
+    if realtime {
+        if inputs.iter().any(|i| matches!(i, InputSpec::Frames(_))) {
+            return Err("--realtime simulates a sheet; a --frames render has none".into());
+        }
+        if obj_dir.is_some() || write_frames.is_some() {
+            return Err(
+                "--realtime renders live, as a host does: drop --obj-dir and --write-frames".into(),
+            );
         }
     }
     if let Some(path) = write_midi {
@@ -273,6 +295,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
         db,
         write_frames,
         quiet,
+        realtime,
     }))
 }
 
@@ -302,6 +325,18 @@ mod tests {
         assert_eq!(o.obj_fps, 24.0);
         assert_eq!(o.write_frames, Some(PathBuf::from("f.jsonl")));
         assert!(o.quiet);
+        assert!(!o.realtime);
+        let Cli::Render(o) = parse(&args("--scene s4 --realtime --out x.wav")).unwrap() else {
+            panic!()
+        };
+        assert!(o.realtime);
+        for bad in [
+            "--frames f.jsonl --realtime --out x.wav",
+            "--scene s4 --realtime --obj-dir o --out x.wav",
+            "--scene s4 --realtime --write-frames f.jsonl --out x.wav",
+        ] {
+            assert!(parse(&args(bad)).is_err(), "{bad}");
+        }
         let Cli::Render(o) = parse(&args(
             "--frames log.jsonl --out x.wav --seed 3 --set gain_db=-3",
         ))

@@ -203,7 +203,11 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
     let mut sim = Sim::new(sim_config(&params));
     sync_fresh_sim(&mut sim, &params);
     let mut engine = Engine::new(
-        SimMode::Lockstep,
+        if opts.realtime {
+            SimMode::Threaded
+        } else {
+            SimMode::Lockstep
+        },
         sr,
         sim,
         &params,
@@ -235,6 +239,7 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
     let events = &tl.events;
     let mut accuracy = SheetAccuracy::default();
 
+    let played_from = Instant::now();
     while pos < total {
         let block_end = (pos + opts.block as u64).min(total);
         let mut sub = pos;
@@ -319,6 +324,13 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         audio.write(&left[..n], &right[..n])?;
         pos = block_end;
         progress.set_position(pos);
+        if opts.realtime {
+            // The next block is due when the audio clock reaches this one's end.
+            let due = played_from + std::time::Duration::from_secs_f64(pos as f64 / sr);
+            if let Some(wait) = due.checked_duration_since(Instant::now()) {
+                std::thread::sleep(wait);
+            }
+        }
     }
     if let Some(dir) = &opts.obj_dir {
         while obj_at(next_obj) <= total {
@@ -335,6 +347,8 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
     };
     progress.finish_and_clear();
 
+    // Live, the worker's last frames are in the meters once it stopped.
+    drop(engine);
     let frames_stepped = meters.frames_stepped.load(Ordering::Relaxed);
     let num_singular = meters.num_singular.load(Ordering::Relaxed);
     Ok(RenderReport {
@@ -351,12 +365,15 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         max_step_ms: meters.max_step_ns.load(Ordering::Relaxed) as f64 * 1e-6,
         crumple_events: meters.crumple_events.load(Ordering::Relaxed),
         num_singular,
-        sheet: Some(accuracy),
+        sheet: (!opts.realtime).then_some(accuracy),
         peak,
         rms,
         obj_frames: if opts.obj_dir.is_some() { next_obj } else { 0 },
         frame_log_in: None,
         frame_log_out,
         wall_s: started.elapsed().as_secs_f64(),
+        frames_skipped: opts
+            .realtime
+            .then(|| meters.frames_skipped.load(Ordering::Relaxed)),
     })
 }

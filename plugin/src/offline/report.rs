@@ -44,6 +44,8 @@ pub struct RenderReport {
     pub frame_log_out: Option<RecordedLog>,
     /// Wall-clock time, seconds.
     pub wall_s: f64,
+    /// `--realtime`: frames the simulation thread skipped because it fell behind the audio.
+    pub frames_skipped: Option<u64>,
 }
 
 /// How isometric the simulated sheet stayed (see `sim_core::metrics::Metrics`).
@@ -126,6 +128,12 @@ impl std::fmt::Display for RenderReport {
             db_string(self.rms),
             self.crumple_events
         )?;
+        if let Some(n) = self.frames_skipped {
+            writeln!(
+                f,
+                "  live:  {n} frames skipped by the simulation thread (played in real time)"
+            )?;
+        }
         if self.obj_frames > 0 {
             writeln!(f, "  obj:   {} frames", self.obj_frames)?;
         }

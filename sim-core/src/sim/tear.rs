@@ -47,6 +47,8 @@ use crate::math::{V2, V3};
 use crate::sheet::physical::PhysMesh;
 use crate::tearing::tip;
 
+use super::tear_hands::HAND_OFFSET_M;
+
 /// Distance of the thumbs ahead of the tip and to either side of its axis, metres (the
 /// seeds' hands hold the paper a few centimetres from the tear, Fig. 3.9; impl. choice).
 pub const THUMB_AHEAD_M: f64 = 0.03;
@@ -65,6 +67,25 @@ pub const FULL_TEAR_RAD: f64 = 1.0 - 1e-9;
 pub const TEAR_SMOOTHING_S: f64 = 0.04;
 /// The rotation snaps to `tear_amount` within this, radians (so a held amount stops the tip).
 pub const TEAR_SNAP_RAD: f64 = 1e-3;
+
+/// Each pulling hand's force at `pull_sep` = 1, newtons (impl. choice: a firm two-finger pull).
+pub const PULL_FORCE_N: f64 = 12.0;
+/// Fracture energy E_f of Griffith's criterion (T:1438–1442) at the mean fibre resistance,
+/// J/m; the fibres' resistance R ∈ \[0, 1\] scales it by 0.75 + 0.5·R (impl. choice: a pull
+/// starts a tear on a whole edge from `pull_sep` ≈ 0.3–0.4, below the hands' grip).
+pub const PULL_FRACTURE_N: f64 = 2.0;
+/// V of the step V·E_r (T:1539–1541): the tip's speed per unit of released energy, m/s per
+/// J/m (impl. choice: a full pull tears an A4 sheet in about a second).
+pub const PULL_SPEED_M_PER_N_S: f64 = 0.015;
+/// Distance of the nearer pulling hand from the tear's start, metres; `pull_asym` puts the
+/// other one 1–3 times as far (tearing-plan §3.1).
+pub const PULL_HAND_DIST_M: f64 = 0.04;
+/// The pulling points (Roman's A and B) lie this far outside the back edge, metres: level with
+/// a tip on the edge they would release nothing (θ = π, T:1446).
+pub const PULL_FOCUS_OUT_M: f64 = 0.01;
+/// Largest move of the tip in one frame of a pull, metres (a frame's step of the seeds' V·E_r
+/// stays below the mesh's edge; the excess is not carried: the pull is a rate).
+pub const PULL_MAX_STEP_M: f64 = 0.005;
 
 /// The tear's state: where it started, its macro tip, the mesh's tip vertex (saved with the
 /// sheet).
@@ -105,6 +126,31 @@ pub struct TearProgress {
     /// Macro path length at the last mesh step tried (a step that could not be made is tried
     /// again once the tip has moved on).
     pub tried_at_m: f64,
+    /// The pulling hands hold the back edge (`pull_sep` > its floor).
+    #[serde(default)]
+    pub pulling: bool,
+    /// Roman's pulling points A (left) and B (right), pattern metres.
+    #[serde(default)]
+    pub foci_m: [[f64; 2]; 2],
+    /// The part of `pull_sep` below this pulls nothing: after a reset, a pull still held
+    /// tears the whole sheet again only once it rises past its value then (as `tear_amount`
+    /// does); before a pull starts a tear the floor follows `pull_sep` down.
+    #[serde(default)]
+    pub pull_floor: f64,
+    /// Energy release rate E_r of the pull at the tip in the last frame, J/m (0: no pull).
+    #[serde(default)]
+    pub release_n: f64,
+}
+
+/// The pull gestures the tear reads each frame (thesis §3.3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PullInput {
+    /// `pull_sep`, 0–1: the hands' force, × [`PULL_FORCE_N`].
+    pub sep: f64,
+    /// `pull_asym`, −1…1: the right (> 0) or left hand farther from the tear.
+    pub asym: f64,
+    /// `tear_pos`, 0 … 1 (where a pull starts the tear).
+    pub pos: f64,
 }
 
 /// The gesture values the tear reads each frame.
@@ -164,19 +210,7 @@ impl TearProgress {
         let dtheta = theta - self.theta_max_rad;
         self.theta_max_rad = theta;
         if !self.started {
-            let margin = START_MARGIN_FRAC * w;
-            let pos = if pos.is_finite() {
-                pos.clamp(0.0, 1.0)
-            } else {
-                0.5
-            };
-            let x = (-0.5 * w + pos * w + START_JITTER_M * jitter.clamp(-1.0, 1.0))
-                .clamp(-0.5 * w + margin, 0.5 * w - margin);
-            self.started = true;
-            self.start_m = [x, 0.5 * l];
-            self.tip_m = self.start_m;
-            self.mesh_tip_m = self.start_m;
-            self.heading = [0.0, -1.0];
+            self.start_at(start_point(pos, w, l, jitter));
         }
         let s = if steer.is_finite() {
             steer.clamp(-1.0, 1.0)
@@ -210,6 +244,93 @@ impl TearProgress {
         self.tip_m = [tip1.x, tip1.y];
         self.path_length_m += moved;
         moved
+    }
+
+    fn start_at(&mut self, p: V2) {
+        self.started = true;
+        self.start_m = [p.x, p.y];
+        self.tip_m = self.start_m;
+        self.mesh_tip_m = self.start_m;
+        self.heading = [0.0, -1.0];
+    }
+
+    /// Moves the tip for this frame's pull (thesis §3.3, module doc "Pull") on a `w` × `l`
+    /// sheet over `dt` seconds; `jitter` places the start as in [`Self::advance`],
+    /// `fracture(p)` is E_f at pattern point `p`. Returns the tip's move, pattern metres.
+    pub fn advance_pull(
+        &mut self,
+        input: PullInput,
+        w: f64,
+        l: f64,
+        dt: f64,
+        jitter: f64,
+        fracture: impl Fn(V2) -> f64,
+    ) -> f64 {
+        let sep = if input.sep.is_finite() {
+            input.sep.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        self.release_n = 0.0;
+        if !self.started {
+            self.pull_floor = self.pull_floor.min(sep);
+        }
+        let force_n = (sep - self.pull_floor).max(0.0) * PULL_FORCE_N;
+        if force_n <= 0.0 || self.separated {
+            self.pulling = false;
+            return 0.0;
+        }
+        let at = if self.started {
+            Self::v(self.start_m)
+        } else {
+            start_point(input.pos, w, l, jitter)
+        };
+        if !self.pulling {
+            let asym = if input.asym.is_finite() {
+                input.asym.clamp(-1.0, 1.0)
+            } else {
+                0.0
+            };
+            let far = PULL_HAND_DIST_M * (1.0 + 2.0 * asym.abs());
+            let (da, db) = if asym > 0.0 {
+                (PULL_HAND_DIST_M, far)
+            } else {
+                (far, PULL_HAND_DIST_M)
+            };
+            let y = 0.5 * l + PULL_FOCUS_OUT_M;
+            self.foci_m = [[at.x - da, y], [at.x + db, y]];
+            self.pulling = true;
+        }
+        let foci = [Self::v(self.foci_m[0]), Self::v(self.foci_m[1])];
+        let tip0 = if self.started { self.tip() } else { at };
+        let (release_n, d0) = roman(tip0, foci, force_n);
+        self.release_n = release_n.max(0.0);
+        if release_n < fracture(tip0) || d0.norm() == 0.0 {
+            return 0.0;
+        }
+        if !self.started {
+            self.start_at(at);
+        }
+        // V·E_r along the bisector, a midpoint step (the path is the hyperbola with foci A and
+        // B, T:1448–1450; Euler steps drift off it where it curves).
+        let len = (PULL_SPEED_M_PER_N_S * release_n * dt).min(PULL_MAX_STEP_M);
+        let (_, d_mid) = roman(tip0 + d0 * (0.5 * len), foci, force_n);
+        let d = if d_mid.norm() > 0.0 { d_mid } else { d0 };
+        self.heading = [d.x, d.y];
+        let exit = border_exit(tip0, d, w, l);
+        let step = if len >= exit {
+            if !self.reached_edge {
+                self.tried_at_m = -1.0;
+            }
+            self.reached_edge = true;
+            exit
+        } else {
+            len
+        };
+        let tip1 = tip0 + d * step;
+        self.tip_m = [tip1.x, tip1.y];
+        self.path_length_m += step;
+        step
     }
 
     /// Whether the mesh should follow the macro tip now (`spacing_m`: the mesh's edge length).
@@ -247,6 +368,12 @@ impl TearProgress {
             self.heading[1],
             self.mesh_tip_m[0],
             self.mesh_tip_m[1],
+            self.foci_m[0][0],
+            self.foci_m[0][1],
+            self.foci_m[1][0],
+            self.foci_m[1][1],
+            self.pull_floor,
+            self.release_n,
         ]
         .iter()
         .all(|x| x.is_finite());
@@ -285,7 +412,9 @@ impl super::Sim {
         let amount = self.rig.state.smoothed[crate::control::GestureParam::TearAmount.index()];
         // Back at 0 the hands let go; a gesture hand holding the sheet takes it over (two sets
         // of hard grips would fight over it).
-        if self.tear.hands.active && (amount <= 0.0 || self.rig.num_active_hands() > 0) {
+        if self.tear.hands.active
+            && ((amount <= 0.0 && !self.tear.pulling) || self.rig.num_active_hands() > 0)
+        {
             self.tear.hands.release();
             return true;
         }
@@ -304,7 +433,12 @@ impl super::Sim {
 
     /// This frame's tear (after the rig moved the gestures): advances the macro tip, announces
     /// a mesh step if due, and writes the tear's sound input (module doc).
-    pub(super) fn tear_frame(&mut self, dt: f64, sound: &mut crate::sound_input::SoundFrame) {
+    /// Returns whether the tip moved.
+    pub(super) fn tear_frame(
+        &mut self,
+        dt: f64,
+        sound: &mut crate::sound_input::SoundFrame,
+    ) -> bool {
         use crate::control::GestureParam as G;
         use rand::{RngExt, SeedableRng};
         let g = |p: G| self.rig.state.smoothed[p.index()];
@@ -320,12 +454,39 @@ impl super::Sim {
             rand_pcg::Pcg32::seed_from_u64(self.cfg.seed ^ TEAR_STREAM).random_range(-1.0..=1.0)
         };
         let (w, l) = (self.sheet.width_m, self.sheet.length_m);
-        let was_started = self.tear.started;
-        let moved_m = self.tear.advance(input, w, l, jitter);
-        if self.tear.started && !was_started && self.rig.num_active_hands() == 0 {
+        let (was_started, was_pulling) = (self.tear.started, self.tear.pulling);
+        let mut moved_m = self.tear.advance(input, w, l, jitter);
+        let pull = PullInput {
+            sep: g(G::PullSeparation),
+            asym: g(G::PullAsymmetry),
+            pos: g(G::TearPosition),
+        };
+        let fibres = &self.fibres;
+        moved_m += self.tear.advance_pull(pull, w, l, dt, jitter, |p| {
+            PULL_FRACTURE_N * (0.75 + 0.5 * fibres.resistance(crate::tearing::fibres::px_of(p)))
+        });
+        let free = self.rig.num_active_hands() == 0;
+        if free && self.tear.pulling && !was_pulling && !self.tear.hands.active {
+            // The pulling hands take the back edge either side of where the tear starts.
+            let at = if self.tear.started {
+                TearProgress::v(self.tear.start_m)
+            } else {
+                start_point(pull.pos, w, l, jitter)
+            };
+            let [a, b] = self.tear.foci_m;
+            let rig = &self.rig;
+            self.tear.hands.grab(
+                at,
+                [a[0] - at.x, b[0] - at.x],
+                &self.sheet.sp.pattern,
+                &self.sheet.sp.pos,
+                |v| rig.hand_of(v).is_some(),
+            );
+        } else if free && self.tear.started && !was_started && !self.tear.hands.active {
             let rig = &self.rig;
             self.tear.hands.grab(
                 TearProgress::v(self.tear.start_m),
+                [-HAND_OFFSET_M, HAND_OFFSET_M],
                 &self.sheet.sp.pattern,
                 &self.sheet.sp.pos,
                 |v| rig.hand_of(v).is_some(),
@@ -341,6 +502,7 @@ impl super::Sim {
             sound.tear.tip_m = [x.x as f32, x.y as f32, x.z as f32];
         }
         sound.tear.length_m = self.tear.path_length_m as f32;
+        moved_m > 0.0
     }
 
     /// Makes the mesh step announced last frame (module doc, step 4): cut and unzip S_P
@@ -396,6 +558,47 @@ impl super::Sim {
             self.tear.pending = true;
         }
     }
+}
+
+/// Where a tear starts on the back edge of a `w` × `l` sheet: `tear_pos` across the width,
+/// moved by up to [`START_JITTER_M`] × `jitter`, at least [`START_MARGIN_FRAC`] of the width
+/// from a side.
+fn start_point(pos: f64, w: f64, l: f64, jitter: f64) -> V2 {
+    let margin = START_MARGIN_FRAC * w;
+    let pos = if pos.is_finite() {
+        pos.clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let jitter = if jitter.is_finite() {
+        jitter.clamp(-1.0, 1.0)
+    } else {
+        0.0
+    };
+    let x =
+        (-0.5 * w + pos * w + START_JITTER_M * jitter).clamp(-0.5 * w + margin, 0.5 * w - margin);
+    V2::new(x, 0.5 * l)
+}
+
+/// Roman's two pulling points (eq. 3.4, T:1446–1448): the energy release rate
+/// E_r = 2F cos(θ/2) at tip `s` pulled by a force `force_n` at each of `foci` (θ the angle
+/// between AS and BS), and the direction the crack runs, the bisector of AS and BS (unit;
+/// zero where they are opposite).
+pub fn roman(s: V2, foci: [V2; 2], force_n: f64) -> (f64, V2) {
+    let a = s - foci[0];
+    let b = s - foci[1];
+    let (na, nb) = (a.norm(), b.norm());
+    if na == 0.0 || nb == 0.0 {
+        return (0.0, V2::zeros());
+    }
+    let (ua, ub) = (a / na, b / nb);
+    let cos_theta = ua.dot(&ub).clamp(-1.0, 1.0);
+    // cos(θ/2) = √((1 + cos θ)/2), θ ∈ [0, π] between two vectors.
+    let release_n = 2.0 * force_n * (0.5 * (1.0 + cos_theta)).sqrt();
+    let bis = ua + ub;
+    let nb2 = bis.norm();
+    let d = if nb2 > 1e-9 { bis / nb2 } else { V2::zeros() };
+    (release_n, d)
 }
 
 /// Distance from `p` along unit `d` to the border of the `w` × `l` rectangle centred at the

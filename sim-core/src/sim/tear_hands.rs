@@ -5,7 +5,9 @@
 //! them form a cone whose apex is the tip (M:87–95). Here, when a tear starts, two grips take
 //! hold of the sheet [`HAND_OFFSET_M`] either side of the start, just inside the back edge
 //! (the [`GRIP_VERTICES`] vertices nearest each grip point on its own side of the tear), and
-//! hold them as hard constraints while `tear_amount` is above 0; at 0 they let go.
+//! hold them as hard constraints while `tear_amount` is above 0; at 0 they let go. A pull
+//! (sim/tear.rs) takes the back edge at Roman's pulling points instead, from the moment
+//! `pull_sep` rises, and lets go when it is back at 0 (or the sheet is in two).
 //!
 //! Decision (beyond the seeds): the left hand **lifts** its flap as the tear grows
 //! ([`LIFT_PER_TORN`] × the torn length, at most [`MAX_LIFT_M`], at most [`LIFT_STEP_M`] a
@@ -22,6 +24,10 @@
 //! - A vertex a gesture hand holds stays with that hand (the user's hands come first).
 //! - Where the strain limit moves a held vertex, the grip slips by the mean move (as the
 //!   gesture hands do, `GestureRig::regrip`): paper does not stretch under the tearing hands.
+//! - A pull's hands open the tear the same way (lifting the left flap), not by moving apart
+//!   in the table's plane: spreading them 0.1 × the torn length stored the pull's strain in
+//!   the ligament ahead of the tip, which flung the left piece 40 cm across the table at
+//!   2.7 m/s when it broke (docs/decisions.md, "Tearing I: the pull").
 //! - The grips' vertices keep their indices through the tear's mesh steps (old vertices keep
 //!   their index), so the hands hold on while the mesh is cut.
 
@@ -67,12 +73,21 @@ pub struct TearHands {
 }
 
 impl TearHands {
-    /// Takes hold on either side of the tear's `start` (pattern) on a sheet whose pattern is
-    /// `pattern` and positions `pos`; `taken(v)` says whether a gesture hand holds `v`.
-    pub fn grab(&mut self, start: V2, pattern: &[V2], pos: &[V3], taken: impl Fn(u32) -> bool) {
+    /// Takes hold on either side of the tear's `start` (pattern), the left grip `offsets_m[0]`
+    /// (< 0) and the right one `offsets_m[1]` (> 0) along the back edge, on a sheet whose
+    /// pattern is `pattern` and positions `pos`; `taken(v)` says whether a gesture hand holds
+    /// `v`.
+    pub fn grab(
+        &mut self,
+        start: V2,
+        offsets_m: [f64; 2],
+        pattern: &[V2],
+        pos: &[V3],
+        taken: impl Fn(u32) -> bool,
+    ) {
         *self = Self::default();
         for (k, side) in [-1.0f64, 1.0].into_iter().enumerate() {
-            let at = start + V2::new(side * HAND_OFFSET_M, -HAND_INSET_M);
+            let at = start + V2::new(offsets_m[k], -HAND_INSET_M);
             let mut best = [(f64::INFINITY, u32::MAX); GRIP_VERTICES];
             for (v, q) in pattern.iter().enumerate() {
                 // On the hand's own side of the tear, and not held already.
@@ -124,9 +139,8 @@ impl TearHands {
                 if v >= fixed.len() || fixed[v] {
                     continue;
                 }
-                let up = if k == 0 { lift } else { 0.0 };
                 fixed[v] = true;
-                target[v] = V3::from(g.anchors_m[i]) + V3::new(0.0, 0.0, up);
+                target[v] = V3::from(g.anchors_m[i]) + Self::opened(k, lift);
             }
         }
     }
@@ -139,12 +153,12 @@ impl TearHands {
         }
         let mut any = false;
         for (k, g) in self.grips.iter_mut().enumerate() {
-            let up = if k == 0 { self.lift_m } else { 0.0 };
+            let open = Self::opened(k, self.lift_m);
             let (mut shift, mut n) = (V3::zeros(), 0.0);
             for i in 0..usize::from(g.count) {
                 let v = g.vertices[i] as usize;
                 if moved.get(v).copied().unwrap_or(false) && !rig_holds(v as u32) {
-                    shift += pos[v] - (V3::from(g.anchors_m[i]) + V3::new(0.0, 0.0, up));
+                    shift += pos[v] - (V3::from(g.anchors_m[i]) + open);
                     n += 1.0;
                 }
             }
@@ -159,6 +173,11 @@ impl TearHands {
             }
         }
         any
+    }
+
+    /// Where grip `k` holds its vertices relative to their anchors at a lift `lift_m`.
+    fn opened(k: usize, lift_m: f64) -> V3 {
+        V3::new(0.0, 0.0, if k == 0 { lift_m } else { 0.0 })
     }
 
     /// Lets go.
@@ -195,7 +214,13 @@ mod tests {
         let sheet = Sheet::new_flat(SheetSize::A4, MeshConfig::default(), 0.75, 0.08);
         let start = V2::new(0.01, 0.5 * sheet.length_m);
         let mut h = TearHands::default();
-        h.grab(start, &sheet.sp.pattern, &sheet.sp.pos, |_| false);
+        h.grab(
+            start,
+            [-HAND_OFFSET_M, HAND_OFFSET_M],
+            &sheet.sp.pattern,
+            &sheet.sp.pos,
+            |_| false,
+        );
         assert!(h.active);
         for (k, g) in h.grips.iter().enumerate() {
             assert_eq!(usize::from(g.count), GRIP_VERTICES);

@@ -72,3 +72,29 @@ pub fn continue_identically(
     }
     n
 }
+
+/// Checks a (possibly torn) sheet of pattern size `w` × `l` after frame `k`: topology, each
+/// piece a disc, at most two pieces, S_G valid, the pattern's area kept to 1e-9, no flat
+/// pattern triangle, finite positions. Returns the number of pieces.
+pub fn check_torn_mesh(sim: &Sim, k: u32, w: f64, l: f64) -> usize {
+    let sp = &sim.sheet().sp;
+    sp.topo.validate().unwrap();
+    let pieces = sp
+        .topo
+        .validate_pieces()
+        .unwrap_or_else(|e| panic!("frame {k}: {e}"));
+    assert!(pieces <= 2);
+    sim.sheet()
+        .sg
+        .validate(sp)
+        .unwrap_or_else(|e| panic!("frame {k}: {e}"));
+    let area: f64 = sp.tri_rest.iter().map(|t| t.area_m2).sum();
+    assert!((area - w * l).abs() <= 1e-9 * w * l, "frame {k}: area");
+    // With the area conserved, no pattern triangle turned over means none overlaps.
+    assert!(
+        sp.tri_rest.iter().all(|t| t.area_m2 > 0.0),
+        "frame {k}: a flat triangle"
+    );
+    assert!(positions_finite(sim), "frame {k}: positions");
+    pieces
+}
