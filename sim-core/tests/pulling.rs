@@ -7,15 +7,14 @@ mod common;
 
 use sim_core::control::{Command, GestureParam, SheetSize};
 use sim_core::math::V2;
-use sim_core::sim::{FrameOutput, Sim, SimConfig};
+use sim_core::sim::{FrameOutput, Sim};
 
-fn set(sim: &mut Sim, param: GestureParam, value: f32) {
-    sim.apply(Command::Gesture { param, value });
-}
+use common::set_gesture as set;
 
 /// A sheet on the table pulled with `pull_sep` ramped 0 → `sep` over `ramp` frames at
-/// `asym`, then held for `hold` frames; checks the torn mesh every frame. Returns the sim and
-/// the macro tip's pattern positions, frame by frame, once the tear runs.
+/// `asym`, then held for `hold` frames; checks the torn mesh every frame
+/// (`common::step_torn`). Returns the sim and the macro tip's pattern positions, frame by
+/// frame, once the tear runs.
 fn pull(
     size: SheetSize,
     sep: f32,
@@ -25,12 +24,7 @@ fn pull(
     hold: u32,
     seed: u64,
 ) -> (Sim, Vec<V2>) {
-    let mut sim = Sim::new(SimConfig {
-        size,
-        seed,
-        ..SimConfig::default()
-    });
-    let (w, l) = (sim.sheet().width_m, sim.sheet().length_m);
+    let (mut sim, _, _) = common::sheet_on_table(size, seed);
     let mut out = FrameOutput::default();
     set(&mut sim, GestureParam::PullAsymmetry, asym);
     set(&mut sim, GestureParam::TearPosition, pos);
@@ -42,18 +36,7 @@ fn pull(
             GestureParam::PullSeparation,
             sep * (k as f32 / ramp as f32).min(1.0),
         );
-        let vertices_before = sim.sheet().sp.num_vertices();
-        let announced = sim.refinement_pending();
-        sim.step(&mut out);
-        if sim.sheet().sp.num_vertices() != vertices_before {
-            assert!(announced, "frame {k}: an unannounced mesh change");
-        }
-        common::check_torn_mesh(&sim, k, w, l);
-        assert!(
-            out.sound.tear.length_m >= last_length,
-            "torn length decreased"
-        );
-        last_length = out.sound.tear.length_m;
+        common::step_torn(&mut sim, &mut out, k, &mut last_length);
         if sim.tear().started {
             path.push(sim.tear().tip());
         }

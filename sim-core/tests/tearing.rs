@@ -8,13 +8,11 @@ use sim_core::control::{Command, GestureParam, SheetSize};
 use sim_core::scenario_run::state_hash;
 use sim_core::sim::{FrameOutput, Sim, SimConfig};
 
-fn set(sim: &mut Sim, param: GestureParam, value: f32) {
-    sim.apply(Command::Gesture { param, value });
-}
+use common::set_gesture as set;
 
 /// A sheet on the table torn by `tear_amount` ramped 0 → 1 over `ramp_frames` at `steer`,
-/// then `hold` frames more; checks the invariants every frame. Returns the sim and the frames
-/// in which the tear sounded.
+/// then `hold` frames more; checks the invariants every frame (`common::step_torn`). Returns
+/// the sim and the frames in which the tear sounded.
 fn tear(
     size: SheetSize,
     steer: f32,
@@ -23,12 +21,7 @@ fn tear(
     hold: u32,
     seed: u64,
 ) -> (Sim, Vec<u32>) {
-    let mut sim = Sim::new(SimConfig {
-        size,
-        seed,
-        ..SimConfig::default()
-    });
-    let (w, l) = (sim.sheet().width_m, sim.sheet().length_m);
+    let (mut sim, _, _) = common::sheet_on_table(size, seed);
     let mut out = FrameOutput::default();
     set(&mut sim, GestureParam::TearSteer, steer);
     set(&mut sim, GestureParam::TearPosition, pos);
@@ -37,17 +30,8 @@ fn tear(
     for k in 1..=ramp_frames + hold {
         let amount = (k as f32 / ramp_frames as f32).min(1.0);
         set(&mut sim, GestureParam::TearAmount, amount);
-        let vertices_before = sim.sheet().sp.num_vertices();
-        let announced = sim.refinement_pending();
-        sim.step(&mut out);
-        // Only an announced frame changes the mesh.
-        if sim.sheet().sp.num_vertices() != vertices_before {
-            assert!(announced, "frame {k}: an unannounced mesh change");
-        }
-        common::check_torn_mesh(&sim, k, w, l);
+        common::step_torn(&mut sim, &mut out, k, &mut last_length);
         let t = out.sound.tear;
-        assert!(t.length_m >= last_length, "torn length decreased");
-        last_length = t.length_m;
         if t.speed_m_s > 0.0 {
             sounding.push(k);
             assert!(t.tip_m.iter().all(|c| c.is_finite()));

@@ -98,3 +98,38 @@ pub fn check_torn_mesh(sim: &Sim, k: u32, w: f64, l: f64) -> usize {
     assert!(positions_finite(sim), "frame {k}: positions");
     pieces
 }
+
+/// Sets gesture `param` of `sim` to `value`.
+pub fn set_gesture(sim: &mut Sim, param: sim_core::control::GestureParam, value: f32) {
+    sim.apply(sim_core::control::Command::Gesture { param, value });
+}
+
+/// A flat sheet of `size` and `seed` on the table, with its pattern width and length, metres.
+pub fn sheet_on_table(size: sim_core::control::SheetSize, seed: u64) -> (Sim, f64, f64) {
+    let sim = Sim::new(SimConfig {
+        size,
+        seed,
+        ..SimConfig::default()
+    });
+    let (w, l) = (sim.sheet().width_m, sim.sheet().length_m);
+    (sim, w, l)
+}
+
+/// Steps frame `k` of a tearing sheet and checks it: only an announced frame changes the mesh,
+/// the torn mesh keeps its invariants ([`check_torn_mesh`]), the torn length never decreases
+/// (`last_length_m`, updated).
+pub fn step_torn(sim: &mut Sim, out: &mut FrameOutput, k: u32, last_length_m: &mut f32) {
+    let (w, l) = (sim.sheet().width_m, sim.sheet().length_m);
+    let vertices_before = sim.sheet().sp.num_vertices();
+    let announced = sim.refinement_pending();
+    sim.step(out);
+    if sim.sheet().sp.num_vertices() != vertices_before {
+        assert!(announced, "frame {k}: an unannounced mesh change");
+    }
+    check_torn_mesh(sim, k, w, l);
+    assert!(
+        out.sound.tear.length_m >= *last_length_m,
+        "frame {k}: torn length decreased"
+    );
+    *last_length_m = out.sound.tear.length_m;
+}
