@@ -11,12 +11,13 @@
 //!                            unit × amplitude, dipole + image taps per ear (frac_delay) ──┐
 //!  set_frame(SoundFrame) ─► friction: Σ amp·|H(ω)|·spectrum per ear → random phase →      ├─► mix ─► safety ─► L/R
 //!                            real iFFT (M ≈ 46 ms) → sine-window overlap-add (hop M/2) ───┤   (smoothed levels)
-//!                        └► tearing: w·r^α, amplitude and grain rate ∝ speed (ramped) ────┘
+//!                        └► tearing: w·r^α, amplitude and grain rate ∝ speed (ramped), ───┘
+//!                            onset burst → tear_tone: coloured by the flaps' friction spectrum
 //! ```
 //!
 //! One concept per module: [`voice_pool`] (selection, culling, merging, stealing),
 //! [`unit_player`] (one voice), [`frac_delay`] (Lagrange taps), [`dipole`] (eq. 4.1–4.12, images,
-//! comb), [`ears`] (stereo listener), [`friction`] (iFFT OLA), [`tearing`] (crackle noise),
+//! comb), [`ears`] (stereo listener), [`friction`] (iFFT OLA), [`tearing`] (crackle noise), [`tear_tone`] (its colour from the flaps),
 //! [`smoothing`] (mix and per-frame interpolation), [`output_stage`] (safety clip), [`counters`]
 //! (proof of the skips), [`rng`] (seeded noise), [`mod@default_db`] (the embedded database),
 //! [`user_db`] (a user's database folder, loaded and prepared).
@@ -56,6 +57,7 @@ pub mod friction;
 pub mod output_stage;
 pub mod rng;
 pub mod smoothing;
+pub mod tear_tone;
 pub mod tearing;
 pub mod unit_player;
 pub mod user_db;
@@ -75,6 +77,7 @@ use self::dipole::{COS_FLOOR, MAX_REFLECTORS};
 use self::ears::Ears;
 use self::friction::Friction;
 use self::smoothing::GainSmoother;
+use self::tear_tone::TearTone;
 use self::tearing::{TearNoise, TearSettings};
 use self::voice_bus::VoiceBus;
 use self::voice_pool::{MAX_CHUNK, TriggerCtx, VoicePool};
@@ -239,6 +242,7 @@ pub struct Renderer {
     voice_bus: VoiceBus,
     friction: Friction,
     tear: TearNoise,
+    tear_tone: TearTone,
     bus: [Vec<f32>; 5],
     clock: u64,
     batch: u64,
@@ -283,6 +287,7 @@ impl Renderer {
             voice_bus: VoiceBus::new(decimation),
             friction: Friction::new(rate, seed),
             tear: TearNoise::new(rate, seed, TearSettings::default()),
+            tear_tone: TearTone::new(rate, MAX_CHUNK * decimation),
             bus: std::array::from_fn(|_| vec![0.0; MAX_CHUNK * decimation]),
             clock: 0,
             batch: 0,
@@ -312,6 +317,7 @@ impl Renderer {
         self.voice_bus.reset();
         self.friction.reset();
         self.tear.reset();
+        self.tear_tone.reset();
         self.tear_tip = [0.0; 3];
         self.update_tear_gains();
         self.snap_gains();
@@ -395,6 +401,14 @@ impl Renderer {
         self.friction
             .set_sources(frame.friction(), db, self.opts.merge, &mut self.counters);
         self.tear.set_speed(frame.tear.speed_m_s, ramp);
+        if frame.tear.onset {
+            self.tear.onset();
+            self.counters.tear_onsets += 1;
+        }
+        let designs = self.tear_tone.designs();
+        self.tear_tone
+            .set_resonator(&frame.tear.resonator, db, self.db_usable);
+        self.counters.tear_tone_kernels += self.tear_tone.designs() - designs;
         self.tear_tip = frame.tear.tip_m;
         self.update_tear_gains();
     }
@@ -468,6 +482,7 @@ impl Renderer {
             &mut self.counters,
         );
         let ran = self.tear.render(tm, self.opts.skip_idle_tear) as u64;
+        self.tear_tone.process(tm, ran == 0);
         self.counters.tear_samples += ran;
         self.counters.tear_samples_skipped += n as u64 - ran;
         let [gc, gf, gt, go] = &mut self.gains;

@@ -95,7 +95,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::collision::VertexContact;
 use crate::sheet::physical::PhysMesh;
-use crate::sound_input::{CrumpleEvent, SoundFrame};
+use crate::sound_input::{CrumpleEvent, Resonator, SoundFrame};
 
 use curvature::Curvature;
 use curvature_grid::CurvatureGrid;
@@ -299,6 +299,39 @@ impl SoundAnalysis {
     fn test_clock(&mut self) -> f64 {
         self.test_time_s += 1.0;
         self.test_time_s
+    }
+
+    /// The flaps at a tear's tip (beyond the seeds: they colour the tear noise): of the
+    /// vibration regions of the last [`Self::analyze`] that touch the tip vertex's fan or the
+    /// tip's triangle, the larger free one (l_c > 0), else the largest. Call after `analyze` on
+    /// the same mesh. No allocation.
+    pub fn flap_resonator(
+        &mut self,
+        input: &AnalysisInput<'_>,
+        tip_vertex: Option<u32>,
+        tip_triangle: Option<u32>,
+    ) -> Option<Resonator> {
+        let sp = input.sp;
+        let num_tris = sp.triangles.len() as u32;
+        self.finder.begin();
+        if let Some(v) = tip_vertex.filter(|&v| (v as usize) < sp.num_vertices()) {
+            for t in self.curvature.vertex_triangles(sp, v) {
+                if t < num_tris {
+                    self.finder.add_region(self.regions.region_of(t));
+                }
+            }
+        }
+        if let Some(t) = tip_triangle.filter(|&t| t < num_tris) {
+            self.finder.add_region(self.regions.region_of(t));
+        }
+        let cfg = self.cfg;
+        let n = self
+            .finder
+            .select(sp, &self.curvature, &self.regions, input, &cfg, 2);
+        (0..n)
+            .map(|k| self.finder.resonator(k))
+            .find(|r| !r.is_constrained())
+            .or_else(|| (n > 0).then(|| self.finder.resonator(0)))
     }
 
     /// Analyses one frame and appends its events to `out`.

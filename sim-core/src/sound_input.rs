@@ -13,7 +13,8 @@
 //!   curvature changes ΣΔ_v of its event, T 1772) and the resonator that selects the unit;
 //! - a [`FrictionSource`] is a contact region that is sliding: its resonator and its slip speed
 //!   (the friction amplitude is linear in the mean relative speed, T 1770, S 153);
-//! - [`TearState`] carries the tear speed |t| (linear amplitude and "pitch", T 2042) and tip.
+//! - [`TearState`] carries the tear speed |t| (linear amplitude and "pitch", T 2042), the tip,
+//!   its onsets and the flaps' resonator that colours the noise (beyond the seeds).
 //!
 //! A [`SoundFrame`] gathers one frame of these with fixed capacity and no heap data, so it can be
 //! copied into a triple buffer and read by the audio thread without allocation. Crumple events are
@@ -91,6 +92,11 @@ pub struct TearState {
     pub tip_m: [f32; 3],
     /// Length torn so far, metres (0 before a tear; never decreases until a reset).
     pub length_m: f32,
+    /// The tip started moving this frame after standing still (a tear onset).
+    pub onset: bool,
+    /// The flaps at the tip, which colour the tear noise (beyond the seeds); a radius of 0
+    /// means none (the noise stays white, as the seeds').
+    pub resonator: Resonator,
 }
 
 /// One frame of sound input, fixed capacity, no heap data.

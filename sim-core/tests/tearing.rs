@@ -155,3 +155,55 @@ fn a_sheet_saved_mid_tear_continues_bit_identically() {
     }
     assert!(a.tear().separated);
 }
+
+#[test]
+fn a_tear_onsets_when_it_starts_and_again_after_a_pause_and_carries_its_flaps() {
+    // A6 torn in two pushes: 0 → 0.3 over 0.3 s, held 0.3 s, 0.3 → 0.5 over 0.2 s, held.
+    let (mut sim, _, _) = common::sheet_on_table(SheetSize::A6, 11);
+    let mut out = FrameOutput::default();
+    let mut last_length = 0.0f32;
+    let mut onsets = Vec::new();
+    let mut moving = 0;
+    let mut first_moving = None;
+    let mut with_flaps = 0;
+    let mut free_flaps = 0;
+    let lanes: Vec<f32> = (0..60)
+        .map(|k| 0.3 * k as f32 / 60.0)
+        .chain(std::iter::repeat_n(0.3, 60))
+        .chain((0..40).map(|k| 0.3 + 0.2 * k as f32 / 40.0))
+        .chain(std::iter::repeat_n(0.5, 40))
+        .collect();
+    for (k, &amount) in lanes.iter().enumerate() {
+        set(&mut sim, GestureParam::TearAmount, amount);
+        common::step_torn(&mut sim, &mut out, k as u32 + 1, &mut last_length);
+        let t = out.sound.tear;
+        if t.onset {
+            assert!(t.speed_m_s > 0.0, "frame {k}: an onset of a still tip");
+            onsets.push(k);
+        }
+        if t.speed_m_s > 0.0 {
+            moving += 1;
+            first_moving.get_or_insert(k);
+            let r = t.resonator;
+            if r.radius_m > 0.0 {
+                with_flaps += 1;
+                assert!(r.lr_cm > 0.0 && r.lr_cm.is_finite(), "frame {k}: {r:?}");
+                assert!(r.centre_m.iter().all(|c| c.is_finite()));
+                free_flaps += usize::from(!r.is_constrained());
+            }
+        } else {
+            assert!(!t.onset);
+        }
+    }
+    assert_eq!(onsets.len(), 2, "onsets at {onsets:?}");
+    assert_eq!(
+        Some(onsets[0]),
+        first_moving,
+        "the first moving frame is an onset"
+    );
+    assert!((120..=130).contains(&onsets[1]), "onsets at {onsets:?}");
+    assert!(moving > 40, "{moving} moving frames");
+    assert_eq!(with_flaps, moving, "every moving frame has its flaps");
+    // The left flap is lifted (sim/tear_hands.rs): free regions at the tip.
+    assert!(free_flaps > moving / 2, "{free_flaps} of {moving} free");
+}

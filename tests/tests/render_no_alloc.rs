@@ -143,6 +143,7 @@ mod counting {
             assert!(r.counters().samples > 0);
             assert!(before_reset.voices_stolen > 0, "{before_reset:?}");
             assert!(before_reset.friction_ffts > 0 && before_reset.tear_samples > 0);
+            assert!(before_reset.tear_onsets > 0 && before_reset.tear_tone_kernels > 1);
             assert_eq!(before_reset.db_swaps, 1);
             assert_eq!(before_reset.db_swaps_rejected, 1);
             assert!(Arc::ptr_eq(&returned[0], &db));

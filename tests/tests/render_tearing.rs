@@ -1,6 +1,7 @@
 //! Tearing noise (L 140–154, T 2022–2050; digest-sound §6 and §12 test 12; digest-tearing §3 and
 //! §7 S-1 … S-5): crackle statistics of w·r^α, linear amplitude, "pitch" = grain rate, flat
-//! spectrum, exact silence when the tear stops.
+//! spectrum, exact silence when the tear stops; beyond the seeds, the onset burst and the colour
+//! of the flaps (render/tear_tone.rs).
 
 mod render_common;
 
@@ -9,6 +10,7 @@ use papier::render::tearing::{
 };
 use papier::render::{MixLevels, Renderer};
 use render_common::*;
+use sim_core::sound_input::Resonator;
 use sounddb::analysis::{flatness, third_octave_levels_db, welch_psd};
 
 fn settings(alpha: f32) -> TearSettings {
@@ -76,10 +78,11 @@ fn s1_silence_when_the_tear_stops() {
     r.set_frame(&frame(0, &[], 0.1));
     let (l, _) = render(&mut r, 4800, 480);
     assert!(rms(&l) > 0.0);
-    // The speed drops to 0: the ramp spans the frame interval (≤ 50 ms), then exact zeros.
+    // The speed drops to 0: the ramp spans the frame interval (≤ 50 ms), the flaps' kernel
+    // rings for at most its length, then exact zeros.
     r.set_frame(&frame(1, &[], 0.0));
     let (l, rr) = render(&mut r, 48_000, 480);
-    let settle = (0.050 * rate) as usize;
+    let settle = (0.050 * rate) as usize + papier::render::tear_tone::MAX_KERNEL;
     assert!(l[settle..].iter().chain(&rr[settle..]).all(|&v| v == 0.0));
     let before = r.counters().tear_samples_skipped;
     let _ = render(&mut r, 4800, 480);
@@ -246,4 +249,118 @@ fn tear_output_is_never_denormal_at_any_rate() {
             assert!(out.iter().all(|v| v.is_finite() && !is_denormal(*v)));
         }
     }
+}
+
+/// A renderer playing only the tear (crumple and friction mixes off), anechoic.
+fn tear_only(rate: f64) -> Renderer {
+    let mut r = Renderer::new(rate, printer_db(rate), 1);
+    r.set_mix(MixLevels {
+        crumple_db: -200.0,
+        friction_db: -200.0,
+        ..MixLevels::default()
+    });
+    r.set_scene(anechoic());
+    r.snap_gains();
+    r
+}
+
+/// Spectral centroid, Hz, of a Welch PSD from 50 Hz to 16 kHz.
+fn centroid_hz(x: &[f32], rate: f64) -> f64 {
+    let psd = welch_psd(x, rate, 2048);
+    let df = rate / 2048.0;
+    let (mut num, mut den) = (0.0, 0.0);
+    for (k, p) in psd.iter().enumerate() {
+        let f = k as f64 * df;
+        if (50.0..=16_000.0).contains(&f) {
+            num += f * p;
+            den += p;
+        }
+    }
+    num / den
+}
+
+#[test]
+fn the_tear_takes_the_colour_of_its_flaps_and_keeps_its_level() {
+    let rate = 48_000.0;
+    let n = 48_000;
+    // At the pitch reference the grains fall on every sample: the crackle is white, so the
+    // kernel alone gives the colour (slower tears multiply it by their grain rate's low-pass).
+    let play = |res: Option<Resonator>| {
+        let mut r = tear_only(rate);
+        let mut f = frame(0, &[], TEAR_PITCH_REF_SPEED_M_S);
+        if let Some(res) = res {
+            f.tear.resonator = res;
+        }
+        r.set_frame(&f);
+        render(&mut r, n, 512).0
+    };
+    let white = play(None);
+    let white_c = centroid_hz(&white[4800..], rate);
+    // The friction of the same patches, alone: the colour the tear should take.
+    let rubbed = |res: Resonator| {
+        let mut r = Renderer::new(rate, printer_db(rate), 1);
+        r.set_scene(anechoic());
+        r.set_frame(&frame(0, &[friction(0.1, res)], 0.0));
+        render(&mut r, n, 512).0
+    };
+    let mut pairs = Vec::new();
+    for (lr, lc) in [
+        (1.0, 0.0),
+        (3.0, 6.0),
+        (8.0, 16.0),
+        (15.0, 30.0),
+        (25.0, 0.0),
+    ] {
+        let res = resonator(lr, lc);
+        let torn = play(Some(res));
+        let level_db = 20.0 * (rms(&torn[4800..]) / rms(&white[4800..])).log10();
+        let (tc, fc) = (
+            centroid_hz(&torn[4800..], rate),
+            centroid_hz(&rubbed(res)[4800..], rate),
+        );
+        eprintln!(
+            "l_r {lr} l_c {lc}: tear {tc:.0} Hz, friction {fc:.0} Hz, white {white_c:.0} Hz, {level_db:+.2} dB"
+        );
+        assert!(
+            level_db.abs() < 2.0,
+            "l_r {lr}: {level_db:.2} dB from white"
+        );
+        pairs.push((tc, fc));
+    }
+    // The tear's centroid moves with the friction's: the order of the cells is kept and each
+    // lies nearer its friction's centroid than the white crackle's does.
+    for (a, b) in pairs.iter().zip(&pairs[1..]) {
+        if (a.1 - b.1).abs() > 300.0 {
+            assert_eq!(a.0 < b.0, a.1 < b.1, "{pairs:?}");
+        }
+    }
+    for &(tc, fc) in &pairs {
+        assert!(
+            (tc - fc).abs() < (white_c - fc).abs(),
+            "{pairs:?}, white {white_c:.0}"
+        );
+    }
+}
+
+#[test]
+fn a_tear_onset_snaps_louder_than_the_running_tear() {
+    let rate = 44_100.0;
+    let play = |onset: bool| {
+        let mut r = tear_only(rate);
+        let mut f = frame(0, &[], 0.01);
+        f.tear.onset = onset;
+        r.set_frame(&f);
+        let out = render(&mut r, 44_100, 64).0;
+        (out, r.counters().tear_onsets)
+    };
+    let (snap, n_snap) = play(true);
+    let (plain, n_plain) = play(false);
+    assert_eq!((n_snap, n_plain), (1, 0));
+    let ms = |a: f64, b: f64| &snap[(a * 44.1) as usize..(b * 44.1) as usize];
+    let msp = |a: f64, b: f64| &plain[(a * 44.1) as usize..(b * 44.1) as usize];
+    let first = 20.0 * (rms(ms(0.0, 10.0)) / rms(msp(0.0, 10.0))).log10();
+    assert!(first > 10.0, "the first 10 ms are {first:.1} dB louder");
+    // 40 ms on the burst has died away (τ = 4 ms): the running tear as without the onset.
+    let later = 20.0 * (rms(ms(40.0, 1000.0)) / rms(msp(40.0, 1000.0))).log10();
+    assert!(later.abs() < 2.0, "{later:.2} dB after 40 ms");
 }

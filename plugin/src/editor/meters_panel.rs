@@ -110,6 +110,7 @@ impl MetersPanel {
         let tear = self
             .tear
             .update(meters.tear_frames.load(Ordering::Relaxed), now_s);
+        let onsets = meters.tear_onsets.load(Ordering::Relaxed);
         let fps = self.view_fps.update(frames_written, now_s);
 
         let budget_ms = 1e3 / DEFAULT_FRAME_RATE_HZ;
@@ -156,7 +157,7 @@ impl MetersPanel {
 
                 ui.label("Events/s");
                 ui.monospace(format!(
-                    "crumple {crumple:5.0}  friction {friction:6.0}  tear {tear:4.0}"
+                    "crumple {crumple:5.0}  friction {friction:6.0}  tear {tear:4.0} ({onsets} onsets)"
                 ))
                 .on_hover_text(
                     "crumple events, friction sources (summed over simulation frames) and \

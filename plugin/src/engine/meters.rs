@@ -30,6 +30,8 @@ pub struct Meters {
     pub friction_sources: AtomicU64,
     /// Frames in which the sheet was tearing.
     pub tear_frames: AtomicU64,
+    /// Tear onsets (a tip that starts moving after standing still).
+    pub tear_onsets: AtomicU64,
     /// Audio-thread load: time in `process()` / block duration (f32 bits; smoothed).
     pub audio_load_bits: AtomicU32,
     /// Interior singular vertices of the current sheet.
@@ -97,6 +99,9 @@ impl Meters {
             .fetch_add(sound.friction().len() as u64, Ordering::Relaxed);
         if sound.tear.speed_m_s > 0.0 {
             self.tear_frames.fetch_add(1, Ordering::Relaxed);
+        }
+        if sound.tear.onset {
+            self.tear_onsets.fetch_add(1, Ordering::Relaxed);
         }
     }
 

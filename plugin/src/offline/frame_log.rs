@@ -20,7 +20,7 @@
 //! | `time_s` | f64 | simulated time at the end of the frame, s, finite, non-decreasing |
 //! | `crumple` | array (optional, ≤ 32) | crumple events: `amplitude` (finite) and `resonator` |
 //! | `friction` | array (optional, ≤ 32) | friction sources: `slip_speed_m_s` (≥ 0), `obstacle` (`table`, `wall`, `floor`, `self_contact`; default `table`) and `resonator` |
-//! | `tear` | object (optional) | `speed_m_s` (≥ 0) and `tip_m` |
+//! | `tear` | object (optional) | `speed_m_s` (≥ 0), `tip_m`, `length_m` (optional), `onset` (optional, default false) and `resonator` (optional: the flaps that colour the noise) |
 //! | `dropped_crumple`, `dropped_friction` | u32 (optional) | events the simulation could not fit |
 //!
 //! A `resonator` has `lr_cm` and `lc_cm` (≥ 0; `lc_cm` = 0 is constrained; `lc_cm` is the TOTAL
@@ -132,6 +132,16 @@ pub struct TearRecord {
     /// Length torn so far, m (absent while nothing is torn).
     #[serde(default, skip_serializing_if = "is_zero_f32")]
     pub length_m: f32,
+    /// A tear onset in this frame (absent: none).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub onset: bool,
+    /// The flaps at the tip that colour the noise (absent: none, white noise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resonator: Option<ResonatorRecord>,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 fn is_zero_f32(x: &f32) -> bool {
@@ -240,6 +250,8 @@ impl From<&SoundFrame> for FrameRecord {
                 speed_m_s: f.tear.speed_m_s,
                 tip_m: f.tear.tip_m,
                 length_m: f.tear.length_m,
+                onset: f.tear.onset,
+                resonator: (f.tear.resonator.radius_m > 0.0).then(|| res_record(&f.tear.resonator)),
             },
             dropped_crumple: f.dropped_crumple,
             dropped_friction: f.dropped_friction,
@@ -309,10 +321,16 @@ impl FrameRecord {
         if !self.tear.tip_m.iter().all(|v| v.is_finite()) {
             return Err("tear.tip_m must be finite".into());
         }
+        let resonator = match &self.tear.resonator {
+            Some(r) => res_from(r, "tear.resonator")?,
+            None => Resonator::default(),
+        };
         f.tear = TearState {
             speed_m_s: self.tear.speed_m_s,
             tip_m: self.tear.tip_m,
             length_m: self.tear.length_m,
+            onset: self.tear.onset,
+            resonator,
         };
         f.dropped_crumple = self.dropped_crumple;
         f.dropped_friction = self.dropped_friction;
@@ -469,6 +487,12 @@ mod tests {
             speed_m_s: 0.05,
             tip_m: [0.1, 0.0, 0.75],
             length_m: 0.02,
+            onset: i == 1,
+            resonator: if i.is_multiple_of(2) {
+                res
+            } else {
+                Resonator::default()
+            },
         };
         f
     }

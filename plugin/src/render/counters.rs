@@ -64,6 +64,10 @@ pub struct RenderCounters {
     pub tear_samples: u64,
     /// Tear-noise samples skipped: no tearing (§11.3).
     pub tear_samples_skipped: u64,
+    /// Tear onsets played.
+    pub tear_onsets: u64,
+    /// Tear-tone kernels designed (the flaps' cell changed).
+    pub tear_tone_kernels: u64,
 
     /// Output samples (per channel) touched by the safety clipper.
     pub clipped_samples: u64,

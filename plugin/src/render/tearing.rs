@@ -37,6 +37,9 @@
 //! - **Denormal safety** (digest-tearing §3.2): r^α underflows f32 for most r (r^100 is subnormal
 //!   for r ∈ (0.356, 0.418)). Grains with r^α < 10⁻⁶ (r < 0.871 at α = 100) are exactly 0 — they
 //!   carry 6·10⁻¹³ of the energy — and r^α = exp(α ln r) is computed only above that gate.
+//! - **Onset** (beyond the seeds): [`TearNoise::onset`] adds a burst that starts as loud and
+//!   as dense as a tear at 0.1 m/s and decays in [`ONSET_DECAY_MS`]: a tear that starts, or
+//!   starts again after a pause, snaps (the first fibres break at once) before it runs.
 //!
 //! Spatialization: the seeds do not spatialize tearing. We apply a distance law from the tear tip
 //! to each ear (1 m reference, ≥ 10 cm), no dipole (the tear tip has no defined normal) and no
@@ -57,6 +60,12 @@ pub const TEAR_MIN_RATE: f32 = 0.25;
 pub const TEAR_GRAIN_RATE_HZ: f64 = 44_100.0;
 /// Grains with r^α below this are 0 (denormal gate).
 pub const GRAIN_GATE: f32 = 1e-6;
+/// A tear onset's burst starts as loud as a tear at [`TEAR_AMP_REF_SPEED_M_S`] (impl. choice).
+pub const ONSET_LEVEL: f32 = 1.0;
+/// Decay time constant of the onset burst, ms (impl. choice: a snap, not a rip).
+pub const ONSET_DECAY_MS: f64 = 4.0;
+/// The burst ends below this level.
+const ONSET_FLOOR: f32 = 1e-4;
 
 /// Settings of the generator (tests vary them; the renderer uses [`TearSettings::default`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,6 +96,10 @@ pub struct TearNoise {
     speed: LinearRamp,
     /// Sample index (since reset) of the generator.
     n: u64,
+    /// The onset burst's level (added to the speed's, in units of the reference speed).
+    burst: f32,
+    /// Per-sample decay of the burst.
+    burst_decay: f32,
     /// Continuous time of the next grain, samples.
     next_time: f64,
     prev_pos: u64,
@@ -113,6 +126,8 @@ impl TearNoise {
             seed,
             speed: LinearRamp::default(),
             n: 0,
+            burst: 0.0,
+            burst_decay: (-1.0 / (ONSET_DECAY_MS * 1e-3 * sample_rate_hz)).exp() as f32,
             next_time: 0.0,
             prev_pos: 0,
             prev_val: 0.0,
@@ -129,6 +144,7 @@ impl TearNoise {
         self.rng = NoiseRng::new(self.seed, 3);
         self.speed.reset(0.0);
         self.n = 0;
+        self.burst = 0.0;
         self.next_time = 0.0;
         self.prev_pos = 0;
         self.prev_val = 0.0;
@@ -147,9 +163,15 @@ impl TearNoise {
         self.speed.set_target(v, ramp_samples);
     }
 
-    /// True when the speed is and stays 0.
+    /// A tear onset: a burst of dense grains at [`ONSET_LEVEL`], decaying with
+    /// [`ONSET_DECAY_MS`], on top of the speed's (the first fibres break at once).
+    pub fn onset(&mut self) {
+        self.burst = ONSET_LEVEL;
+    }
+
+    /// True when the speed is and stays 0 and no onset burst plays.
     pub fn is_idle(&self) -> bool {
-        self.speed.is_steady() && self.speed.value() == 0.0
+        self.speed.is_steady() && self.speed.value() == 0.0 && self.burst == 0.0
     }
 
     /// One grain: w · r^α (0 below the gate).
@@ -194,7 +216,13 @@ impl TearNoise {
                 break;
             }
             ran += 1;
-            let v = self.speed.tick();
+            let v = self.speed.tick() + self.burst * TEAR_AMP_REF_SPEED_M_S;
+            if self.burst > 0.0 {
+                self.burst *= self.burst_decay;
+                if self.burst < ONSET_FLOOR {
+                    self.burst = 0.0;
+                }
+            }
             if self.n >= self.next_pos {
                 // Reached the next grain: it becomes the previous one; draw a new next grain.
                 self.prev_pos = self.next_pos;

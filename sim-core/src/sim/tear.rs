@@ -29,6 +29,10 @@
 //!    the adoptions (~0.8 ms each) to about one per edge of tear.
 //! 5. **Sound** (M:120, M:154, T:2042): the macro tip's speed ‖t‖/dt and its place on the
 //!    surface fill [`crate::sound_input::TearState`]; the render path's tear noise reads them.
+//!    Beyond the seeds (whose synthetic tear lacks the "specific tone" of a real one, T:2046,
+//!    M §5): the flaps at the tip — the largest free vibration region touching the tip, else the
+//!    largest — give the tear its resonator (l_r, l_c, disk), which colours the noise; and a tip
+//!    that moves after standing still for [`TEAR_ONSET_STILL_FRAMES`] marks a tear onset.
 //!
 //! Decisions, one line each (not in the seeds):
 //! - The macro tip moves continuously and drives the sound; the mesh's tip lags it by less than
@@ -83,6 +87,10 @@ pub const PULL_HAND_DIST_M: f64 = 0.04;
 /// The pulling points (Roman's A and B) lie this far outside the back edge, metres: level with
 /// a tip on the edge they would release nothing (θ = π, T:1446).
 pub const PULL_FOCUS_OUT_M: f64 = 0.01;
+/// A tip that moves after standing still for this many frames (50 ms) starts a tear onset: the
+/// first fibres break at once, a louder burst than the running tear (impl. choice: a MIDI ramp's
+/// steps, smoothed, never pause this long; a player's new push does).
+pub const TEAR_ONSET_STILL_FRAMES: u64 = 10;
 /// Largest move of the tip in one frame of a pull, metres (a frame's step of the seeds' V·E_r
 /// stays below the mesh's edge; the excess is not carried: the pull is a rate).
 pub const PULL_MAX_STEP_M: f64 = 0.005;
@@ -140,6 +148,10 @@ pub struct TearProgress {
     /// Energy release rate E_r of the pull at the tip in the last frame, J/m (0: no pull).
     #[serde(default)]
     pub release_n: f64,
+    /// The last frame in which the macro tip moved (`None`: it never has): a tip that moves
+    /// after [`TEAR_ONSET_STILL_FRAMES`] still is a tear onset.
+    #[serde(default)]
+    pub last_moved_frame: Option<u64>,
 }
 
 /// The pull gestures the tear reads each frame (thesis §3.3).
@@ -497,9 +509,28 @@ impl super::Sim {
             self.tear.pending = true;
         }
         if moved_m > 0.0 {
-            let x = surface_point(&self.sheet.sp, self.tear.tip());
+            let (tip_tri, x) = locate(&self.sheet.sp, self.tear.tip()).unzip();
+            let x = x.unwrap_or_else(V3::zeros);
             sound.tear.speed_m_s = (moved_m / dt) as f32;
             sound.tear.tip_m = [x.x as f32, x.y as f32, x.z as f32];
+            sound.tear.onset = self
+                .tear
+                .last_moved_frame
+                .is_none_or(|f| self.frame.saturating_sub(f) >= TEAR_ONSET_STILL_FRAMES);
+            sound.tear.resonator = self
+                .analysis
+                .flap_resonator(
+                    &crate::sound_analysis::AnalysisInput {
+                        sp: &self.sheet.sp,
+                        contacts: &self.contacts,
+                        held: &self.fixed,
+                        time_s: self.time_s(),
+                    },
+                    self.tear.mesh_tip,
+                    tip_tri,
+                )
+                .unwrap_or_default();
+            self.tear.last_moved_frame = Some(self.frame);
         }
         sound.tear.length_m = self.tear.path_length_m as f32;
         moved_m > 0.0
@@ -618,17 +649,23 @@ fn border_exit(p: V2, d: V2, w: f64, l: f64) -> f64 {
 /// The point of the surface over pattern point `p`: barycentric in the triangle that contains
 /// it (or comes closest to containing it).
 pub fn surface_point(sp: &PhysMesh, p: V2) -> V3 {
-    let mut best: Option<(f64, V3)> = None;
-    for tri in &sp.triangles {
+    locate(sp, p).map_or(V3::zeros(), |(_, x)| x)
+}
+
+/// The triangle that contains pattern point `p` (or comes closest to containing it) and the
+/// surface point over `p` in it; `None` on an empty mesh.
+pub fn locate(sp: &PhysMesh, p: V2) -> Option<(u32, V3)> {
+    let mut best: Option<(f64, u32, V3)> = None;
+    for (t, tri) in sp.triangles.iter().enumerate() {
         let [a, b, c] = tri.map(|i| sp.pattern[i as usize]);
         let [l0, l1, l2] = crate::math::barycentric2(a, b, c, p);
         let inside = l0.min(l1).min(l2);
-        if inside.is_finite() && best.is_none_or(|(m, _)| inside > m) {
+        if inside.is_finite() && best.is_none_or(|(m, _, _)| inside > m) {
             let [x0, x1, x2] = tri.map(|i| sp.pos[i as usize]);
-            best = Some((inside, x0 * l0 + x1 * l1 + x2 * l2));
+            best = Some((inside, t as u32, x0 * l0 + x1 * l1 + x2 * l2));
         }
     }
-    best.map_or(V3::zeros(), |(_, x)| x)
+    best.map(|(_, t, x)| (t, x))
 }
 
 #[cfg(test)]

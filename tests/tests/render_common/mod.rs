@@ -204,10 +204,13 @@ pub fn busy_steps(frames: usize, seed: u64) -> Vec<Step> {
                     events.push(crumple(0.2 + g.next(), res));
                 }
             }
-            Step {
-                frame: frame(i as u64, &fr, if i % 40 < 20 { 0.08 } else { 0.0 }),
-                events,
+            // The tear starts every 40 frames (an onset) and its flaps change every 5.
+            let mut frame = frame(i as u64, &fr, if i % 40 < 20 { 0.08 } else { 0.0 });
+            frame.tear.onset = i % 40 == 0;
+            if i % 40 < 20 {
+                frame.tear.resonator = resonator(sizes[(i / 5) % 6], sizes[(i / 10) % 6]);
             }
+            Step { frame, events }
         })
         .collect()
 }
