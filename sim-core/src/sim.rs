@@ -392,6 +392,8 @@ pub struct Sim {
     tear: tear::TearProgress,
     /// The fibres' resistance to a pull's tear (tearing/fibres.rs), from the sheet's seed.
     fibres: crate::tearing::fibres::FibreTexture,
+    /// The lips' millimetre detail (tearing/lips.rs), rebuilt where the mesh changes.
+    lips: crate::tearing::lips::Lips,
 }
 
 impl Sim {
@@ -491,8 +493,10 @@ impl Sim {
             fibres: crate::tearing::fibres::FibreTexture::new((cfg.seed ^ FIBRE_STREAM) as u32),
             cfg,
             frame: 0,
+            lips: crate::tearing::lips::Lips::default(),
             sheet,
         };
+        sim.rebuild_lips();
         sim.update_contacts();
         sim.last_metrics = sim.metrics.compute(&sim.sheet.sp);
         sim
@@ -1023,7 +1027,19 @@ impl Sim {
         )
     }
 
-    /// Copies the mesh out (no allocation when `out` has the capacity).
+    /// The lips' millimetre detail (empty on a whole sheet).
+    pub fn lips(&self) -> &crate::tearing::lips::Lips {
+        &self.lips
+    }
+
+    /// Walks the lip edges of the current mesh (where the mesh changed; may allocate).
+    pub(crate) fn rebuild_lips(&mut self) {
+        let (w, l) = (self.sheet.width_m, self.sheet.length_m);
+        self.lips.rebuild(&self.sheet.sp, w, l, &self.fibres);
+    }
+
+    /// Copies the mesh out, with the lips' detail while it fits the capacity of `out` (no
+    /// allocation when `out` has the capacity).
     pub fn write_mesh(&self, out: &mut MeshSnapshot) {
         out.clear();
         out.frame = self.frame;
@@ -1040,6 +1056,7 @@ impl Sim {
             out.tags[v as usize] = VertexTag::Singular;
         }
         out.triangles.extend_from_slice(&sp.triangles);
+        out.write_lips(self.lips.runs(), &sp.pattern, &sp.pos);
     }
 
     /// The sheet as saved in a project.

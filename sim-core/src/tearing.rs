@@ -9,9 +9,9 @@
 //! mesh is cut along ([`crate::sheet::cut`]) and then opened into two lips
 //! ([`crate::sheet::unzip`]), one tip step at a time ([`crate::sheet::tear_step`]).
 //!
-//! **State of the work** (issue 51, "Tearing I"): these and the mesh steps are tested building
-//! blocks. The sim does not call them yet: the tear and pull gestures still do not move the
-//! sheet, the sim's mesh is never torn and nothing sounds. What remains is in the issue's note.
+//! The sim drives them from its tear frame (`sim/tear.rs`): the tip, the cut and unzip of the
+//! mesh in announced steps, and the lips' millimetre detail ([`lips`]) drawn over the straight
+//! cuts.
 //!
 //! Decisions, one line each (digest-tearing §1.5–1.6, §1.9; none of these values is in the
 //! seeds):
@@ -26,5 +26,6 @@
 //!   cycle), so it ends in at most the squared distance's number of steps.
 
 pub mod fibres;
+pub mod lips;
 pub mod tip;
 pub mod walk;

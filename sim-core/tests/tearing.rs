@@ -207,3 +207,87 @@ fn a_tear_onsets_when_it_starts_and_again_after_a_pause_and_carries_its_flaps() 
     // The left flap is lifted (sim/tear_hands.rs): free regions at the tip.
     assert!(free_flaps > moving / 2, "{free_flaps} of {moving} free");
 }
+
+/// Distance from `q` to the segment [a, b].
+fn segment_distance(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (abx, aby) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = abx * abx + aby * aby;
+    let t = if l2 > 0.0 {
+        (((q[0] - a[0]) * abx + (q[1] - a[1]) * aby) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (q[0] - a[0] - t * abx).hypot(q[1] - a[1] - t * aby)
+}
+
+#[test]
+fn the_torn_lips_are_jagged_at_the_millimetre_scale_and_their_teeth_fit() {
+    // A family of tears (sizes, steers, places, seeds), none tuned on.
+    for (size, steer, pos, seed) in [
+        (SheetSize::A6, 0.0, 0.5, 5u64),
+        (SheetSize::A5, 0.6, 0.3, 17),
+        (SheetSize::A6, -0.8, 0.7, 23),
+        (SheetSize::A4, 0.3, 0.45, 31),
+    ] {
+        let (sim, _) = tear(size, steer, pos, 160, 20, seed);
+        let label = format!("{size:?} steer {steer} seed {seed}");
+        let runs = sim.lips().runs();
+        assert!(runs.len() >= 4, "{label}: {} lip edges", runs.len());
+        let sp = &sim.sheet().sp;
+        let (mut sum_mm, mut n, mut max_mm, mut lip_length_m) = (0.0, 0usize, 0.0f64, 0.0);
+        for r in runs {
+            let p = r.points();
+            let (a, b) = (
+                sp.pattern[r.edge[0] as usize],
+                sp.pattern[r.edge[1] as usize],
+            );
+            assert_eq!(p[0], [a.x, a.y], "{label}: a run starts at its vertex");
+            assert_eq!(
+                p[p.len() - 1],
+                [b.x, b.y],
+                "{label}: a run ends at its vertex"
+            );
+            lip_length_m += (b - a).norm();
+            for q in &p[1..p.len() - 1] {
+                let d_mm = 1e3 * segment_distance(*q, [a.x, a.y], [b.x, b.y]);
+                sum_mm += d_mm;
+                max_mm = max_mm.max(d_mm);
+                n += 1;
+            }
+            // The other lip has the same jag, run the other way.
+            let twin = runs
+                .iter()
+                .find(|t| t.edge != r.edge && t.points().iter().rev().eq(p.iter()))
+                .unwrap_or_else(|| panic!("{label}: lip edge {:?} has no twin", r.edge));
+            assert_ne!(twin.triangle, r.triangle);
+        }
+        let mean_mm = sum_mm / n as f64;
+        eprintln!(
+            "{label}: {} lip edges, {:.1} cm of lips, jag mean {mean_mm:.2} mm, max {max_mm:.2} mm",
+            runs.len(),
+            100.0 * lip_length_m
+        );
+        assert!((0.1..=1.0).contains(&mean_mm), "{label}: mean {mean_mm} mm");
+        assert!(max_mm <= 2.5, "{label}: max {max_mm} mm");
+        // Two lips as long as the tear, at least.
+        assert!(lip_length_m >= 1.9 * sim.tear().path_length_m, "{label}");
+
+        // The snapshot carries them into 3D, their ends on the vertices.
+        let (nv, nt) = sim.mesh_capacity();
+        let mut snap = sim_core::mesh_snapshot::MeshSnapshot::with_capacity(nv, nt);
+        sim.write_mesh(&mut snap);
+        assert_eq!(snap.lips.len(), runs.len());
+        for l in &snap.lips {
+            let pts = &snap.lip_points_m[l.start as usize..(l.start + l.len) as usize];
+            for (end, v) in [(pts[0], l.edge[0]), (pts[pts.len() - 1], l.edge[1])] {
+                let want = snap.positions_m[v as usize];
+                assert!((0..3).all(|i| (end[i] - want[i]).abs() < 1e-5), "{label}");
+            }
+        }
+    }
+    // A whole sheet has none, and a reset makes the sheet whole again.
+    let (mut sim, _) = tear(SheetSize::A6, 0.0, 0.5, 100, 10, 9);
+    assert!(!sim.lips().runs().is_empty());
+    sim.apply(Command::Reset);
+    assert!(sim.lips().runs().is_empty());
+}

@@ -3,7 +3,7 @@
 //! Draws the latest simulation mesh with egui's painter: perspective projection from an orbit
 //! camera ([`super::projection`]), one flat-shaded colour per triangle ([`super::shading`]) by
 //! region kind ([`super::region`]), back faces tinted, triangles sorted back to front (painter's
-//! algorithm), the outline of the sheet, dots on held (handle) and singular vertices, the floor,
+//! algorithm), the outline of the sheet (the torn lips jagged, as their walks), dots on held (handle) and singular vertices, the floor,
 //! table and wall ([`super::room_scene`]) and the listener's head, with a map of the room seen
 //! from above in a corner ([`super::room_map`]). Drag to orbit, scroll to zoom, double-click to
 //! return to the default view.
@@ -44,6 +44,8 @@ pub struct SheetView {
     order: Vec<(f32, u32)>,
     boundary: Vec<[u32; 2]>,
     boundary_of: Vec<[u32; 3]>,
+    /// The lip edges drawn jagged (sorted, smaller vertex first): their straight edge is not.
+    lip_edges: Vec<[u32; 2]>,
     screen: Vec<Option<(Pos2, f32)>>,
     clipped: Vec<V3>,
     map_edges: Vec<[V3; 2]>,
@@ -81,6 +83,7 @@ impl Default for SheetView {
             order: Vec::new(),
             boundary: Vec::new(),
             boundary_of: Vec::new(),
+            lip_edges: Vec::new(),
             screen: Vec::new(),
             clipped: Vec::new(),
             map_edges: Vec::new(),
@@ -121,6 +124,8 @@ impl SheetView {
         copy_into(&mut dst.mesh.pattern_m, &src.mesh.pattern_m);
         copy_into(&mut dst.mesh.tags, &src.mesh.tags);
         copy_into(&mut dst.mesh.triangles, &src.mesh.triangles);
+        copy_into(&mut dst.mesh.lip_points_m, &src.mesh.lip_points_m);
+        copy_into(&mut dst.mesh.lips, &src.mesh.lips);
         copy_into(&mut dst.tri_kind, &src.tri_kind);
         drop(slot);
         if self.frame.tri_kind.len() == self.frame.mesh.triangles.len() {
@@ -133,6 +138,15 @@ impl SheetView {
             copy_into(&mut self.boundary_of, &self.frame.mesh.triangles);
             boundary_edges(&self.frame.mesh.triangles, &mut self.boundary);
         }
+        self.lip_edges.clear();
+        self.lip_edges.extend(
+            self.frame
+                .mesh
+                .lips
+                .iter()
+                .map(|l| [l.edge[0].min(l.edge[1]), l.edge[0].max(l.edge[1])]),
+        );
+        self.lip_edges.sort_unstable();
         true
     }
 
@@ -320,11 +334,29 @@ impl SheetView {
         painter.add(Shape::mesh(m));
 
         for [a, b] in &self.boundary {
+            if self.lip_edges.binary_search(&[*a, *b]).is_ok() {
+                continue;
+            }
             if let (Some((p, _)), Some((q, _))) = (
                 self.screen.get(*a as usize).copied().flatten(),
                 self.screen.get(*b as usize).copied().flatten(),
             ) {
                 painter.line_segment([p, q], Stroke::new(1.0, OUTLINE_COLOUR));
+            }
+        }
+        // The torn lips, jagged (the walk of each lip edge, sim-core tearing/lips.rs).
+        for l in &mesh.lips {
+            let pts = mesh
+                .lip_points_m
+                .get(l.start as usize..(l.start + l.len) as usize)
+                .unwrap_or(&[]);
+            for w in pts.windows(2) {
+                if let (Some(p), Some(q)) = (proj.project(w[0]), proj.project(w[1])) {
+                    painter.line_segment(
+                        [pos2(p.x_px, p.y_px), pos2(q.x_px, q.y_px)],
+                        Stroke::new(1.0, OUTLINE_COLOUR),
+                    );
+                }
             }
         }
         for (v, tag) in mesh.tags.iter().enumerate() {
@@ -562,5 +594,51 @@ mod tests {
                 count(TriKind::SingularFan)
             ]
         );
+    }
+
+    #[test]
+    fn a_torn_sheet_shows_its_lips_jagged_in_place_of_their_straight_edges() {
+        use sim_core::{Command, GestureParam, SheetSize, Sim, SimConfig};
+        let shared = ViewShared::default();
+        let mut view = SheetView::default();
+        let mut publisher = crate::engine::view::ViewPublisher::install(&shared);
+        shared
+            .open
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+        let mut sim = Sim::new(SimConfig {
+            size: SheetSize::A6,
+            ..SimConfig::default()
+        });
+        let mut out = sim_core::FrameOutput::default();
+        // Settle on the table first.
+        for _ in 0..100 {
+            sim.step(&mut out);
+        }
+        for k in 1..=120 {
+            sim.apply(Command::Gesture {
+                param: GestureParam::TearAmount,
+                value: (k as f32 / 100.0).min(1.0),
+            });
+            sim.step(&mut out);
+        }
+        assert!(
+            sim.tear().path_length_m > 0.05,
+            "{:?}",
+            sim.tear().path_length_m
+        );
+        publisher.after_frame(&shared, &sim, &out.stats);
+        assert!(view.refresh(&shared));
+        let mesh = &view.frame().mesh;
+        assert_eq!(mesh.lips.len(), sim.lips().runs().len());
+        assert!(!view.lip_edges.is_empty());
+        // Every lip edge is a boundary edge (drawn as its walk, not straight); the rest of the
+        // boundary is the outer rectangle.
+        for e in &view.lip_edges {
+            assert!(view.boundary.binary_search(e).is_ok(), "{e:?}");
+        }
+        assert!(view.boundary.len() > view.lip_edges.len());
+        let jag = mesh.lips.iter().map(|l| l.len).sum::<u32>() as usize;
+        assert_eq!(jag, mesh.lip_points_m.len());
+        assert!(jag > 4 * mesh.lips.len());
     }
 }

@@ -17,6 +17,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use crossbeam_queue::ArrayQueue;
 
 use sim_core::geometry::TriKind;
+use sim_core::mesh_snapshot::LIP_CAPACITY_POINTS;
 use sim_core::room::RoomConfig;
 use sim_core::sim::FrameStats;
 use sim_core::{MeshSnapshot, Sim};
@@ -59,6 +60,9 @@ impl ViewFrame {
         mesh.pattern_m.resize(vertices, [0.0; 2]);
         mesh.tags.resize(vertices, Default::default());
         mesh.triangles.resize(triangles, [0; 3]);
+        mesh.lip_points_m.resize(LIP_CAPACITY_POINTS, [0.0; 3]);
+        mesh.lips
+            .resize(LIP_CAPACITY_POINTS / 2, Default::default());
         Self {
             valid: false,
             mesh,

@@ -178,6 +178,7 @@ impl Sim {
         self.kin_target.resize(n, V3::zeros());
         self.forces.resize(n, V3::zeros());
         self.contacts.resize(n, VertexContact::default());
+        self.rebuild_lips();
         Ok(())
     }
 }
