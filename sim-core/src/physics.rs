@@ -364,11 +364,6 @@ impl Physics {
         self.frame.sheet.boost_crossing(a, b);
     }
 
-    /// The vertices on a torn lip, for the sheet–sheet contact (call where the mesh changes).
-    pub fn set_lip_vertices(&mut self, flags: &[bool]) {
-        self.frame.sheet.set_lip_vertices(flags);
-    }
-
     /// The active contact boosts (saved with the sheet).
     pub fn contact_boosts(&self) -> &[sheet_contact::Boost] {
         self.frame.sheet.boosts()

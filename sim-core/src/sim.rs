@@ -1036,7 +1036,6 @@ impl Sim {
     pub(crate) fn rebuild_lips(&mut self) {
         let (w, l) = (self.sheet.width_m, self.sheet.length_m);
         self.lips.rebuild(&self.sheet.sp, w, l, &self.fibres);
-        self.physics.set_lip_vertices(self.lips.vertex_flags());
     }
 
     /// Copies the mesh out, with the lips' detail while it fits the capacity of `out` (no

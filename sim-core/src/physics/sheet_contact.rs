@@ -49,11 +49,7 @@
 //! in the pattern is a candidate, however the sheet is folded; in particular a sharp fold at
 //! one lattice edge meets the next triangle across the fold and stops short of folding through
 //! it. Pairs whose distance is zero at the start of the substep (already crossed) are left to
-//! the sim's pass-through guard: no normal can tell which side they came from. **A torn sheet**
-//! breaks the rule: its two lips have the same pattern positions. A pair touching a lip
-//! vertex that is close in the pattern is still a contact when no vertex of one side is a
-//! vertex or mesh neighbour of the other (the lips meet only at the tear's tip): the torn
-//! pieces, and the flaps of a tear under way, collide along their lips too.
+//! the sim's pass-through guard: no normal can tell which side they came from.
 //!
 //! **Stiffening where the sheet crossed (impl. choice, after IPC's adaptive stiffness).** A
 //! penalty is finite: pressed hard enough — a fold's stored bending energy, or a hand's hard
@@ -202,8 +198,6 @@ pub struct SheetContact {
     pub dropped: u64,
     /// Stiffness boosts of the layers that crossed in undone frames.
     boosts: Vec<Boost>,
-    /// Vertices on a torn lip (empty on a whole sheet).
-    lip_vertex: Vec<bool>,
 }
 
 /// A stiffness boost for the pairs among the six vertices of two triangles that crossed
@@ -238,17 +232,6 @@ impl SheetContact {
             pairs: Vec::with_capacity(PAIRS_PER_ELEMENT * (nv + ne)),
             dropped: 0,
             boosts: Vec::with_capacity(MAX_BOOSTS),
-            lip_vertex: Vec::new(),
-        }
-    }
-
-    /// The vertices on a torn lip (`flags[v]`; all false or empty on a whole sheet): pairs
-    /// touching them that are close in the pattern but not neighbours in the mesh lie across
-    /// a cut and are contacts. Call where the mesh changes (allocates).
-    pub fn set_lip_vertices(&mut self, flags: &[bool]) {
-        self.lip_vertex.clear();
-        if flags.iter().any(|&f| f) {
-            self.lip_vertex.extend_from_slice(flags);
         }
     }
 
@@ -414,9 +397,7 @@ impl SheetContact {
                 if tri.contains(&v) {
                     continue;
                 }
-                if let Some(pair) =
-                    vertex_triangle(mesh, v, tri, reach_m, min_gap, &self.lip_vertex)
-                {
+                if let Some(pair) = vertex_triangle(mesh, v, tri, reach_m, min_gap) {
                     if self.pairs.len() < cap {
                         self.pairs.push(pair);
                     } else {
@@ -443,7 +424,7 @@ impl SheetContact {
                 if ea.iter().any(|v| eb.contains(v)) {
                     continue;
                 }
-                if let Some(pair) = edge_edge(mesh, ea, eb, reach_m, min_gap, &self.lip_vertex) {
+                if let Some(pair) = edge_edge(mesh, ea, eb, reach_m, min_gap) {
                     if self.pairs.len() < cap {
                         self.pairs.push(pair);
                     } else {
@@ -492,25 +473,6 @@ fn pat(mesh: &PhysMesh, i: u32) -> V3 {
     V3::new(p.x, p.y, 0.0)
 }
 
-/// True if features `a` and `b` (close in the pattern) lie across a torn cut: one of them
-/// touches a lip and no vertex of `b` is a vertex of `a` or a mesh neighbour of one. Two lips
-/// have the same pattern positions, so the pattern cannot tell them apart; the mesh can (the
-/// lips meet only at the tear's tip, whose neighbours are on both).
-fn across_a_cut(mesh: &PhysMesh, lip_vertex: &[bool], a: &[u32], b: &[u32]) -> bool {
-    if lip_vertex.is_empty()
-        || !a
-            .iter()
-            .chain(b)
-            .any(|&i| lip_vertex.get(i as usize).copied().unwrap_or(false))
-    {
-        return false;
-    }
-    !a.iter().any(|&i| {
-        b.iter()
-            .any(|&j| i == j || mesh.topo.neighbours(i).binary_search(&j).is_ok())
-    })
-}
-
 /// Soft-stage stiffness of a stencil: k = m ω_c² with m = ½ Σ |w_i| m_i.
 fn stiffness(mesh: &PhysMesh, v: &[u32; 4], w: &[f64; 4]) -> f64 {
     let m: f64 = v
@@ -529,7 +491,6 @@ fn vertex_triangle(
     tri: [u32; 3],
     reach_m: f64,
     min_gap_m: f64,
-    lip_vertex: &[bool],
 ) -> Option<SheetPair> {
     let p = mesh.pos[v as usize];
     let t = tri.map(|i| mesh.pos[i as usize]);
@@ -548,9 +509,9 @@ fn vertex_triangle(
         .map(|(&i, &w)| mesh.pos[i as usize] * w)
         .sum();
     let n = (p - q) / d;
-    // One patch in the pattern: no contact (unless a cut runs between them).
+    // One patch in the pattern: no contact.
     let (gap, _) = point_triangle(pat(mesh, v), tri.map(|i| pat(mesh, i)));
-    if gap < min_gap_m && !across_a_cut(mesh, lip_vertex, &[v], &tri) {
+    if gap < min_gap_m {
         return None;
     }
     let vs = [v, tri[0], tri[1], tri[2]];
@@ -571,7 +532,6 @@ fn edge_edge(
     eb: [u32; 2],
     reach_m: f64,
     min_gap_m: f64,
-    lip_vertex: &[bool],
 ) -> Option<SheetPair> {
     let (a, b) = (
         ea.map(|i| mesh.pos[i as usize]),
@@ -591,7 +551,7 @@ fn edge_edge(
     // One patch in the pattern: no contact. (Closest points at an end of an edge duplicate a
     // vertex–triangle pair; keeping both only doubles a stiffness locally.)
     let (gap, _, _) = segment_segment(ea.map(|i| pat(mesh, i)), eb.map(|i| pat(mesh, i)));
-    if gap < min_gap_m && !across_a_cut(mesh, lip_vertex, &ea, &eb) {
+    if gap < min_gap_m {
         return None;
     }
     let vs = [ea[0], ea[1], eb[0], eb[1]];
@@ -741,63 +701,6 @@ mod tests {
         }
         assert_eq!(c.boosts.len(), MAX_BOOSTS);
         assert!(c.boosts.capacity() == MAX_BOOSTS);
-    }
-
-    #[test]
-    fn torn_lips_are_contacts_though_they_share_the_pattern() {
-        use crate::sheet::pattern::{Pattern, lattice};
-        // Two 10 cm pieces cut along y = 0: their lip vertices have the same pattern points.
-        let piece = lattice(0.1, 0.1, 0.02);
-        let n = piece.points.len() as u32;
-        let half = V2::new(0.0, 0.05);
-        let pattern = Pattern {
-            points: piece
-                .points
-                .iter()
-                .map(|p| p - half)
-                .chain(piece.points.iter().map(|p| p + half))
-                .collect(),
-            triangles: piece
-                .triangles
-                .iter()
-                .copied()
-                .chain(piece.triangles.iter().map(|t| t.map(|v| v + n)))
-                .collect(),
-        };
-        let mut mesh = PhysMesh::from_pattern(&pattern, 0.75, 0.08).unwrap();
-        // The second piece slid 4 mm back over the first, 1 mm above it.
-        for i in n as usize..mesh.num_vertices() {
-            mesh.pos[i] += V3::new(0.0, -0.004, 0.001);
-        }
-        let lips: Vec<bool> = mesh.pattern.iter().map(|p| p.y.abs() < 1e-12).collect();
-        assert!(lips.iter().filter(|&&f| f).count() >= 10);
-        let across = |c: &SheetContact| {
-            c.pairs()
-                .iter()
-                .filter(|p| {
-                    let (a, b) = (p.v[0] < n, p.v[1..].iter().all(|&v| v < n));
-                    a != b || p.v[1..].iter().any(|&v| (v < n) != a)
-                })
-                .count()
-        };
-        let mut c = SheetContact::new(&mesh);
-        c.find(&mesh, 0.0);
-        assert_eq!(
-            across(&c),
-            0,
-            "a whole sheet's rule: one patch in the pattern"
-        );
-        c.set_lip_vertices(&lips);
-        c.find(&mesh, 0.0);
-        let found = across(&c);
-        assert!(found >= 5, "{found} pairs across the cut");
-        // The lip of the upper piece over the lower: pushed apart vertically.
-        let vertical = c.pairs().iter().filter(|p| p.n.z > 0.9).count();
-        assert!(vertical >= 5, "{vertical} of {found} pairs vertical");
-        // Flags all false: back to the whole sheet's rule.
-        c.set_lip_vertices(&vec![false; mesh.num_vertices()]);
-        c.find(&mesh, 0.0);
-        assert_eq!(across(&c), 0);
     }
 
     /// Two pieces of paper, one held 3 mm above the other and driven down at 0.5 m/s into it:

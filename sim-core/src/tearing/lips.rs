@@ -68,7 +68,6 @@ pub struct Lips {
     previous: Vec<LipRun>,
     path: Vec<Px>,
     piece: Vec<Px>,
-    on_lip: Vec<bool>,
 }
 
 /// True if the pattern point lies on the side `side` (0 = x, 1 = y) of the rectangle at ±half.
@@ -113,12 +112,6 @@ impl Lips {
     /// Forgets every run (a whole sheet).
     pub fn clear(&mut self) {
         self.runs.clear();
-        self.on_lip.clear();
-    }
-
-    /// Per vertex of the mesh of the last [`Self::rebuild`]: true on a lip edge.
-    pub fn vertex_flags(&self) -> &[bool] {
-        &self.on_lip
     }
 
     /// Finds the lip edges of `sp` (a sheet cut from a `width_m` × `length_m` rectangle) and
@@ -173,13 +166,6 @@ impl Lips {
                 None => self.walk_edge(&mut run, pa, pb, fibres),
             }
             self.runs.push(run);
-        }
-        self.on_lip.clear();
-        self.on_lip.resize(sp.num_vertices(), false);
-        for r in &self.runs {
-            for v in r.edge {
-                self.on_lip[v as usize] = true;
-            }
         }
     }
 
