@@ -47,6 +47,26 @@ fn every_scenario_is_healthy_and_near_isometric() {
 }
 
 #[test]
+fn the_seed_scenes_never_engage_the_tear() {
+    // The tear and pull gestures at their defaults: no tear starts, no lip exists, the tear is
+    // silent and the mesh stays one piece (so the tearing code cannot change their renders).
+    for name in scenario::names().filter(|n| !n.starts_with('t')) {
+        let mut engaged = 0usize;
+        play(name, |sim| {
+            let t = sim.tear();
+            engaged += usize::from(
+                t.started
+                    || t.pending
+                    || t.pulling
+                    || t.path_length_m > 0.0
+                    || !sim.lips().runs().is_empty(),
+            );
+        });
+        assert_eq!(engaged, 0, "{name}: the tear engaged in {engaged} frames");
+    }
+}
+
+#[test]
 fn approaching_edges_curve_the_sheet_up() {
     // S1: back and front edges slide together: the middle rises well above the table.
     let mut z_max: f64 = 0.0;

@@ -26,7 +26,7 @@ fn session(seed: u64, frames: u64) -> sim_core::stress::StressReport {
         validate_every: 500,
         restore_check_every: 250,
         restore_check_frames: 4,
-        trace: false,
+        trace: std::env::var_os("STRESS_TRACE").is_some(),
     };
     // Geometry-layer invariants after every frame: the interior singular count never
     // decreases within a sheet's life (a reset starts a new sheet, a tear step may drop the

@@ -4,7 +4,7 @@
 
 mod common;
 
-use sim_core::control::{Command, GestureParam, SheetSize};
+use sim_core::control::{Command, GestureParam, GrabSlot, SheetSize};
 use sim_core::scenario_run::state_hash;
 use sim_core::sim::{FrameOutput, Sim, SimConfig};
 
@@ -290,4 +290,65 @@ fn the_torn_lips_are_jagged_at_the_millimetre_scale_and_their_teeth_fit() {
     assert!(!sim.lips().runs().is_empty());
     sim.apply(Command::Reset);
     assert!(sim.lips().runs().is_empty());
+}
+
+#[test]
+fn the_torn_pieces_are_sheets_they_crumple_and_slide_with_their_sounds() {
+    // Torn in two, then crumpled by the corners (two on each piece), let go, then the front
+    // edge (half of it on each piece) slid toward the back.
+    let (mut sim, _) = tear(SheetSize::A5, 0.0, 0.5, 150, 60, 13);
+    assert!(sim.tear().separated);
+    let mut out = FrameOutput::default();
+    let mut last_length = sim.tear().path_length_m as f32;
+    let mut k = 1000;
+    let mut step = |sim: &mut Sim, out: &mut FrameOutput| {
+        k += 1;
+        common::step_torn(sim, out, k, &mut last_length);
+        assert_eq!(sim.sheet().sp.topo.pieces().len(), 2, "frame {k}");
+        assert_eq!(out.stats.num_flipped, 0, "frame {k}");
+    };
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Corners,
+        grip: 1.0,
+    });
+    let (mut crumples, mut rubs) = (0usize, 0usize);
+    for i in 1..=200 {
+        set(
+            &mut sim,
+            GestureParam::Crumple,
+            0.7 * (i as f32 / 150.0).min(1.0),
+        );
+        step(&mut sim, &mut out);
+        crumples += out.sound.crumple().len();
+    }
+    let top_m = sim
+        .sheet()
+        .sp
+        .pos
+        .iter()
+        .map(|p| p.z)
+        .fold(f64::MIN, f64::max);
+    set(&mut sim, GestureParam::Crumple, 0.0);
+    sim.apply(Command::Release {
+        slot: GrabSlot::Corners,
+    });
+    for _ in 0..200 {
+        step(&mut sim, &mut out);
+    }
+    sim.apply(Command::Grab {
+        slot: GrabSlot::Front,
+        grip: 1.0,
+    });
+    for i in 1..=200 {
+        set(
+            &mut sim,
+            GestureParam::Slide,
+            0.5 * (i as f32 / 150.0).min(1.0),
+        );
+        step(&mut sim, &mut out);
+        rubs += usize::from(!out.sound.friction().is_empty());
+    }
+    eprintln!("crumple events {crumples}, frames with friction {rubs}, top {top_m:.3} m");
+    assert!(crumples >= 5, "{crumples} crumple events");
+    assert!(rubs >= 20, "{rubs} frames with friction");
 }

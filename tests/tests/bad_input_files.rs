@@ -20,10 +20,19 @@ fn damaged_scripts_midi_files_and_frame_logs_never_panic() {
         .iter()
         .map(|&r| papier::render::default_db(f64::from(r)))
         .collect();
-    let bases = bases(&dir, &["c1_first_sharp_feature", "s6_slide_on_table"]);
+    // A crumple, a slide, a two-hand tear and a pull (the tear and pull lanes).
+    let bases = bases(
+        &dir,
+        &[
+            "c1_first_sharp_feature",
+            "s6_slide_on_table",
+            "t1_two_hand_tear",
+            "t3_pull_equal",
+        ],
+    );
     let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
     let mut per_kind = [Tally::default(); 3];
-    for case in 0..120 {
+    for case in 0..160 {
         let base = &bases[case % bases.len()];
         let bytes = mutated(base, &mut rng);
         let t = run_case(base.kind, &bytes, &dir, &mut rng).unwrap_or_else(|e| {

@@ -110,24 +110,32 @@ fn render(dir: &Path, name: &str, pos: f32, ramp_s: f64) -> Take {
     }
 }
 
-/// Pieces of an OBJ mesh: its faces joined through shared `v` indices.
+/// Pieces of an OBJ mesh: its faces joined through shared `v` indices. Checks that the file
+/// has one `vt` per `v` and that every face uses the same index for both (the lips are two
+/// vertices at one pattern position).
 fn obj_pieces(path: &Path) -> usize {
     let text = std::fs::read_to_string(path).unwrap();
     let mut faces: Vec<[usize; 3]> = Vec::new();
-    let mut nv = 0;
+    let (mut nv, mut nvt) = (0, 0);
     for line in text.lines() {
         let mut w = line.split_whitespace();
         match w.next() {
             Some("v") => nv += 1,
+            Some("vt") => nvt += 1,
             Some("f") => {
                 let idx: Vec<usize> = w
-                    .map(|t| t.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                    .map(|t| {
+                        let (v, vt) = t.split_once('/').unwrap();
+                        assert_eq!(v, vt, "{}: a face's v and vt differ", path.display());
+                        v.parse::<usize>().unwrap() - 1
+                    })
                     .collect();
                 faces.push([idx[0], idx[1], idx[2]]);
             }
             _ => {}
         }
     }
+    assert_eq!(nv, nvt, "{}: one vt per v", path.display());
     let mut parent: Vec<usize> = (0..nv).collect();
     fn root(p: &mut [usize], mut a: usize) -> usize {
         while p[a] != a {
