@@ -25,7 +25,9 @@
 //! - **No flaps, no database**: a frame without a resonator keeps the last kernel; before any,
 //!   or without a usable database, the kernel is a delay of K/2 (the seeds' white crackle).
 //! - The kernel is designed on the audio thread when the cell changes (one K-point real iFFT,
-//!   preallocated); idle, the stage costs nothing once its tail has rung out.
+//!   preallocated); idle, the stage costs nothing once its tail has rung out. Taps at the
+//!   kernel's ends below −80 dB of its peak are skipped ([`TAP_FLOOR`]); the white kernel is
+//!   one tap (a delay).
 
 use std::sync::Arc;
 
@@ -40,11 +42,15 @@ pub const KERNEL_S: f64 = 0.0025;
 pub const MIN_KERNEL: usize = 32;
 /// Longest kernel, taps.
 pub const MAX_KERNEL: usize = 256;
+/// Taps at the kernel's ends below this fraction of its peak are skipped (−80 dB).
+pub const TAP_FLOOR: f32 = 1e-4;
 
 /// The colouring stage.
 pub struct TearTone {
     k: usize,
     kernel: Vec<f32>,
+    /// The kernel's taps above [`TAP_FLOOR`] of its peak: the rest are skipped.
+    taps: std::ops::Range<usize>,
     cell: Option<u16>,
     acc: Vec<f32>,
     /// Samples of the accumulator that may still be non-zero.
@@ -66,6 +72,7 @@ impl TearTone {
         let mut t = Self {
             k,
             kernel: vec![0.0; k],
+            taps: k / 2..k / 2 + 1,
             cell: None,
             acc: vec![0.0; max_block + k],
             ringing: 0,
@@ -104,7 +111,17 @@ impl TearTone {
     fn set_white(&mut self) {
         self.kernel.fill(0.0);
         self.kernel[self.k / 2] = 1.0;
+        self.taps = self.k / 2..self.k / 2 + 1;
         self.cell = None;
+    }
+
+    /// The taps above [`TAP_FLOOR`] of the peak.
+    fn trim(&mut self) {
+        let peak = self.kernel.iter().fold(0.0f32, |m, h| m.max(h.abs()));
+        let keep = |h: &f32| h.abs() >= TAP_FLOOR * peak;
+        let lo = self.kernel.iter().position(keep).unwrap_or(0);
+        let hi = self.kernel.iter().rposition(keep).map_or(lo, |i| i + 1);
+        self.taps = lo..hi;
     }
 
     /// The flaps of this frame: designs their kernel if their cell changed. A resonator of
@@ -172,6 +189,7 @@ impl TearTone {
             for h in &mut self.kernel {
                 *h *= g;
             }
+            self.trim();
         } else {
             self.set_white();
         }
@@ -187,9 +205,11 @@ impl TearTone {
             return;
         }
         if !input_silent {
+            let (lo, hi) = (self.taps.start, self.taps.end);
+            let taps = &self.kernel[lo..hi];
             for (t, &x) in buf[..n].iter().enumerate() {
                 if x != 0.0 {
-                    for (a, h) in self.acc[t..t + k].iter_mut().zip(&self.kernel) {
+                    for (a, h) in self.acc[t + lo..t + hi].iter_mut().zip(taps) {
                         *a += x * h;
                     }
                 }
