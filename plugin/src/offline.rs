@@ -13,11 +13,13 @@
 //! (`--frames`): it is then played through the render path alone, with no sheet
 //! ([`frame_replay`]; the log format is [`frame_log`]).
 //!
-//! Parts: [`cli`] (arguments), [`render`] (the render loop), [`report`], [`wav_out`],
+//! Parts: [`cli`] (arguments), [`render`] (the render loop), [`batch`] (many takes from a job
+//! file, on every core, sharded over machines), [`report`], [`wav_out`],
 //! [`obj_out`], [`progress`], [`frame_log`] / [`frame_replay`] (sound-frame logs), [`midi_file`]
 //! / [`midi_export`] (Standard MIDI Files in and out), [`timeline`] (inputs merged in time),
 //! [`error`].
 
+pub mod batch;
 pub mod cli;
 pub mod error;
 pub mod frame_log;
@@ -78,6 +80,14 @@ pub fn write_midi(inputs: &[InputSpec], out: &Path) -> Result<MidiExport, Offlin
     Ok(x)
 }
 
+/// Prints to stdout, ignoring a closed pipe (`papier-render ... | head` must not panic).
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($t)*);
+    }};
+}
+
 /// `papier-render`'s entry point: parses the arguments (without the program name), renders,
 /// prints the report, and returns the exit code.
 pub fn main_with_args(args: &[String]) -> i32 {
@@ -90,12 +100,12 @@ pub fn main_with_args(args: &[String]) -> i32 {
     };
     match cli {
         cli::Cli::Help => {
-            println!("{}", cli::USAGE);
+            say!("{}", cli::USAGE);
             0
         }
         cli::Cli::ListScenes => {
             for n in scene_names() {
-                println!("{n}");
+                say!("{n}");
             }
             0
         }
@@ -103,7 +113,7 @@ pub fn main_with_args(args: &[String]) -> i32 {
             Ok(x) => {
                 if !quiet {
                     let sets: String = x.sets.iter().map(|s| format!(" --set {s}")).collect();
-                    println!(
+                    say!(
                         "papier-render: wrote {} ({} messages, {:.2} s)\n  render it: papier-render --midi {}{sets} --out OUT.wav",
                         out.display(),
                         x.events.len(),
@@ -111,7 +121,7 @@ pub fn main_with_args(args: &[String]) -> i32 {
                         out.display()
                     );
                     if !x.dropped.is_empty() {
-                        println!(
+                        say!(
                             "  not in the file (no MIDI control for them): {}",
                             x.dropped.join(", ")
                         );
@@ -124,10 +134,37 @@ pub fn main_with_args(args: &[String]) -> i32 {
                 e.exit_code()
             }
         },
+        cli::Cli::Batch {
+            file,
+            shard,
+            jobs,
+            quiet,
+        } => {
+            let takes = match batch::read(&file) {
+                Ok(t) => t,
+                Err(e) => {
+                    eprintln!("papier-render: error: {e}");
+                    return 2;
+                }
+            };
+            let threads = jobs.unwrap_or_else(|| {
+                std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+            });
+            let summary = batch::run(&takes, shard, threads, quiet);
+            if !quiet {
+                say!("{}", summary.to_string().trim_end());
+            }
+            for r in &summary.results {
+                if let Err(e) = &r.outcome {
+                    eprintln!("papier-render: error: take {}: {e}", r.stem);
+                }
+            }
+            i32::from(summary.failed() > 0)
+        }
         cli::Cli::Render(opts) => match render(&opts) {
             Ok(report) => {
                 if !opts.quiet {
-                    println!("{report}");
+                    say!("{report}");
                 }
                 0
             }

@@ -7,6 +7,7 @@
 //!               [--realtime]
 //! papier-render --frames FILE.jsonl --out FILE.wav
 //!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
+//! papier-render --batch FILE.toml [--shard I/N] [--jobs N] [--quiet]
 //! ```
 //! Every input plays on one shared timeline from t = 0 (like tracks of a DAW); the render
 //! lasts as long as the longest input. Values given with `--seed` and `--set` are applied at
@@ -102,6 +103,17 @@ pub enum Cli {
     Help,
     /// List the built-in scenes.
     ListScenes,
+    /// Render the takes of a job file (`--batch`).
+    Batch {
+        /// The job file.
+        file: PathBuf,
+        /// The share of the takes to render.
+        shard: super::batch::Shard,
+        /// Worker threads (default: the cores).
+        jobs: Option<usize>,
+        /// Print only errors.
+        quiet: bool,
+    },
     /// Write the inputs as a MIDI performance (README map) instead of rendering.
     WriteMidi {
         /// The inputs.
@@ -121,6 +133,7 @@ pub const USAGE: &str =
                      [--realtime]
        papier-render --frames FILE.jsonl --out FILE.wav
                      [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
+       papier-render --batch FILE.toml [--shard I/N] [--jobs N] [--quiet]
        papier-render --list-scenes
 Renders Papier offline (the plugin's engine, stepped in lockstep with the audio) to a WAV file.
   --midi FILE        play a Standard MIDI File (README: MIDI map)
@@ -142,6 +155,11 @@ Renders Papier offline (the plugin's engine, stepped in lockstep with the audio)
                      header comment gives the --set options that replay it)
   --write-midi FILE  write the inputs as a MIDI performance (README map: grabs as notes,
                      gestures as CCs) instead of rendering; prints the --set options it needs
+  --batch FILE       render every take of a job file (plugin/src/offline/batch.rs), on
+                     all cores, each take's bytes those of its single render; a summary
+                     table at the end; a failed take is reported and the others go on
+  --shard I/N        with --batch: render the takes whose index is I modulo N (job arrays)
+  --jobs N           with --batch: worker threads (default: the cores)
   --quiet            print only errors
   --realtime         play at the audio clock's pace with the sheet simulated on its own thread,
                      as a host plays the plugin live; reports the frames that thread skipped
@@ -163,6 +181,9 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
     let mut quiet = defaults.quiet;
     let mut realtime = defaults.realtime;
     let mut write_midi = None;
+    let mut batch_file = None;
+    let mut shard = None;
+    let mut jobs = None;
 
     let mut i = 0;
     while i < args.len() {
@@ -234,9 +255,38 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
             "--write-frames" => write_frames = Some(PathBuf::from(value("--write-frames")?)),
             "--quiet" | "-q" => quiet = true,
             "--realtime" => realtime = true,
+            "--batch" => batch_file = Some(PathBuf::from(value("--batch")?)),
+            "--shard" => shard = Some(super::batch::Shard::parse(&value("--shard")?)?),
+            "--jobs" => {
+                let v = value("--jobs")?;
+                jobs = Some(
+                    v.parse::<usize>()
+                        .ok()
+                        .filter(|n| (1..=1024).contains(n))
+                        .ok_or_else(|| format!("--jobs {v}: expected 1 to 1024"))?,
+                );
+            }
             other => return Err(format!("unknown option {other:?} (see --help)")),
         }
         i += 1;
+    }
+    if let Some(file) = batch_file {
+        if !inputs.is_empty() || out.is_some() || write_midi.is_some() || realtime {
+            return Err(
+                "--batch takes its inputs and outputs from the job file: drop --midi, --script, \
+                 --scene, --frames, --out, --write-midi and --realtime"
+                    .into(),
+            );
+        }
+        return Ok(Cli::Batch {
+            file,
+            shard: shard.unwrap_or(super::batch::Shard::ALL),
+            jobs,
+            quiet,
+        });
+    }
+    if shard.is_some() || jobs.is_some() {
+        return Err("--shard and --jobs go with --batch".into());
     }
     if inputs.is_empty() {
         return Err("no input: give at least one --midi, --script or --scene, or --frames".into());
