@@ -59,6 +59,19 @@ pub fn papier_render() -> PathBuf {
     )
 }
 
+/// Runs the release `papier-render` with `args` and returns its exit status and output.
+pub fn run_papier_render(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(papier_render())
+        .args(args)
+        .output()
+        .expect("run papier-render")
+}
+
+/// A path as a command-line argument (the tests' paths are UTF-8).
+pub fn arg(p: &Path) -> &str {
+    p.to_str().expect("a UTF-8 path")
+}
+
 /// The release standalone application (`target/release/papier`).
 pub fn standalone() -> PathBuf {
     must_exist(

@@ -3,20 +3,10 @@
 //! as one failed take while the others render, and a shard rendering exactly its share.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use papier_tests::paths;
-
-fn run(args: &[&str]) -> Output {
-    Command::new(paths::papier_render())
-        .args(args)
-        .output()
-        .expect("run papier-render")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use papier_tests::paths::arg as s;
+use papier_tests::paths::run_papier_render as run;
 
 const JOBS: &str = r#"
 [defaults]

@@ -7,27 +7,18 @@
 //! panic.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use papier::gesture_map::MidiInput;
 use papier::offline::frame_log::frames_to_string;
 use papier::offline::midi_file::{TimedMidi, write_smf};
 use papier_tests::audio::{all_finite_normal, peak, read_stereo};
 use papier_tests::paths;
+use papier_tests::paths::arg as s;
+use papier_tests::paths::run_papier_render as run;
 use sim_core::RoomConfig;
 use sim_core::script::{Script, ScriptValue};
 use sim_core::sound_input::{CrumpleEvent, FrictionSource, Obstacle, Resonator, SoundFrame};
-
-fn run(args: &[&str]) -> Output {
-    Command::new(paths::papier_render())
-        .args(args)
-        .output()
-        .expect("run papier-render")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 /// A 10 s gesture performance using the README's MIDI map.
 fn ten_second_midi(path: &Path) {

@@ -12,12 +12,9 @@ use papier::offline::frame_log::FrameRecord;
 use papier::offline::midi_file::{TimedMidi, write_smf};
 use papier_tests::audio::{all_finite_normal, read_stereo};
 use papier_tests::paths;
+use papier_tests::paths::arg as s;
 
 const RATE_HZ: f64 = 48_000.0;
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 /// A tear performance: CC 28 = `pos` at 0.1 s, CC 26 ramped 0 → 1 from 0.3 s over `ramp_s`.
 fn tear_midi(path: &Path, pos: f32, ramp_s: f64) {

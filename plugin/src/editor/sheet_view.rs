@@ -557,16 +557,21 @@ mod tests {
         assert!(!view.refresh(&shared));
     }
 
+    /// A view with its buffer installed and the editor open.
+    fn open_view() -> (ViewShared, SheetView, crate::engine::view::ViewPublisher) {
+        let shared = ViewShared::default();
+        let publisher = crate::engine::view::ViewPublisher::install(&shared);
+        shared
+            .open
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+        (shared, SheetView::default(), publisher)
+    }
+
     #[test]
     fn a_crumpled_sheet_shows_the_simulations_partition() {
         use sim_core::geometry::TriKind;
         use sim_core::{Command, GestureParam, GrabSlot, Sim, SimConfig};
-        let shared = ViewShared::default();
-        let mut view = SheetView::default();
-        let mut publisher = crate::engine::view::ViewPublisher::install(&shared);
-        shared
-            .open
-            .store(true, std::sync::atomic::Ordering::Relaxed);
+        let (shared, mut view, mut publisher) = open_view();
         let mut sim = Sim::new(SimConfig::default());
         let mut out = sim_core::FrameOutput::default();
         sim.apply(Command::Grab {
@@ -599,12 +604,7 @@ mod tests {
     #[test]
     fn a_torn_sheet_shows_its_lips_jagged_in_place_of_their_straight_edges() {
         use sim_core::{Command, GestureParam, SheetSize, Sim, SimConfig};
-        let shared = ViewShared::default();
-        let mut view = SheetView::default();
-        let mut publisher = crate::engine::view::ViewPublisher::install(&shared);
-        shared
-            .open
-            .store(true, std::sync::atomic::Ordering::Relaxed);
+        let (shared, mut view, mut publisher) = open_view();
         let mut sim = Sim::new(SimConfig {
             size: SheetSize::A6,
             ..SimConfig::default()
