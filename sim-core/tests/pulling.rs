@@ -44,6 +44,17 @@ fn pull(
     (sim, path)
 }
 
+/// The pattern positions of the cut's vertices (the ends of every lip edge), each once.
+fn lip_vertices(sim: &Sim) -> Vec<V2> {
+    let mut vs: Vec<u32> = sim.lips().runs().iter().flat_map(|r| r.edge).collect();
+    vs.sort_unstable();
+    vs.dedup();
+    let sp = &sim.sheet().sp;
+    let mut ps: Vec<V2> = vs.iter().map(|&v| sp.pattern[v as usize]).collect();
+    ps.dedup_by(|a, b| a == b);
+    ps
+}
+
 #[test]
 fn an_equal_pull_tears_straight_into_two_pieces() {
     for (size, pos, seed) in [
@@ -62,6 +73,20 @@ fn an_equal_pull_tears_straight_into_two_pieces() {
             worst < 0.02 * w,
             "{size:?}: {worst} m off the straight line"
         );
+        // The mesh's cut follows at the lattice's resolution: a crossing within a third of an
+        // edge of a vertex tears through that vertex (sheet/cut.rs), so the lips zig-zag up to
+        // a third of an edge (2.8–4.0 mm, 1.9–2.7 % of the width) about the tip's line.
+        let lips = lip_vertices(&sim);
+        assert!(lips.len() >= 8, "{size:?}: {} lip vertices", lips.len());
+        let worst = lips.iter().map(|p| (p.x - x0).abs()).fold(0.0, f64::max);
+        eprintln!(
+            "{size:?}: lip vertices within {:.2} mm of the line",
+            1e3 * worst
+        );
+        assert!(
+            worst < 0.03 * w,
+            "{size:?}: a lip vertex {worst} m off the line"
+        );
         // It ran from the back edge to the front edge (the mesh separates the pieces once
         // the tip is within an edge of the border).
         let l = sim.sheet().length_m;
@@ -78,14 +103,27 @@ fn an_unequal_pull_tears_along_the_hyperbola_of_the_hands() {
         let [a, b] = sim.tear().foci_m.map(|f| V2::new(f[0], f[1]));
         let ab = (b - a).norm();
         // |SA| − |SB| is constant on a hyperbola with foci A and B.
-        let diffs: Vec<f64> = path
-            .iter()
-            .map(|s| (s - a).norm() - (s - b).norm())
-            .collect();
-        let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
-        let std =
-            (diffs.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / diffs.len() as f64).sqrt();
-        assert!(std < 0.02 * ab, "asym {asym}: std {std} of |AB| {ab}");
+        let std = |points: &[V2]| {
+            let diffs: Vec<f64> = points
+                .iter()
+                .map(|s| (s - a).norm() - (s - b).norm())
+                .collect();
+            let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
+            (diffs.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / diffs.len() as f64).sqrt()
+        };
+        let tip = std(&path);
+        assert!(tip < 0.02 * ab, "asym {asym}: std {tip} of |AB| {ab}");
+        // The mesh's cut on the same hyperbola, at the lattice's resolution (a third of an
+        // edge, above): 4.3–6.9 mm of spread in |SA| − |SB|, 2–3.5 mm from the curve.
+        let lips = lip_vertices(&sim);
+        assert!(lips.len() >= 8, "asym {asym}: {} lip vertices", lips.len());
+        let cut = std(&lips);
+        eprintln!(
+            "asym {asym}: |SA| − |SB| spread {:.2} mm on the tip, {:.2} mm on the lips",
+            1e3 * tip,
+            1e3 * cut
+        );
+        assert!(cut < 0.05 * ab, "asym {asym}: lips' std {cut} of |AB| {ab}");
         // It curves: the tear ends off the straight line from its start, towards the nearer hand.
         let (s0, s1) = (path[0], *path.last().unwrap());
         let nearer_left = (s0 - a).norm() < (s0 - b).norm();

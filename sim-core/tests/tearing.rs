@@ -345,3 +345,161 @@ fn the_torn_pieces_are_sheets_they_crumple_and_slide_with_their_sounds() {
     assert!(crumples >= 5, "{crumples} crumple events");
     assert!(rubs >= 20, "{rubs} frames with friction");
 }
+
+/// Heading of the tip's motion over the `span` path points ending at `end`, radians.
+fn heading(path: &[sim_core::math::V2], end: usize, span: usize) -> f64 {
+    let d = path[end] - path[end.saturating_sub(span)];
+    d.y.atan2(d.x)
+}
+
+#[test]
+fn an_alternating_steer_zig_zags_the_tear() {
+    // Thesis Fig. 3.10 (T 1374-1392): the balance of the hands' rotations steers the tear; the
+    // steer switched +s, −s, +s along the ramp turns the tip one way, back, and the first way
+    // again, and the opposite steer mirrors it. A family of sizes, places, strengths and seeds.
+    for (size, s, pos, seed) in [
+        (SheetSize::A4, 0.8, 0.35, 22u64),
+        (SheetSize::A4, -0.8, 0.35, 22),
+        (SheetSize::A5, 0.6, 0.5, 41),
+        (SheetSize::A6, -1.0, 0.6, 43),
+        (SheetSize::A4, 0.5, 0.7, 47),
+    ] {
+        let label = format!("{size:?} steer {s:+} then {:+} at {pos} seed {seed}", -s);
+        let (mut sim, _, _) = common::sheet_on_table(size, seed);
+        let mut out = FrameOutput::default();
+        set(&mut sim, GestureParam::TearPosition, pos);
+        let ramp = 240u32;
+        let mut last_length = 0.0f32;
+        // The tip's path and, for each third of the ramp, the path index where it ended.
+        let (mut path, mut ends) = (Vec::new(), Vec::new());
+        for k in 1..=ramp {
+            let third = (3 * (k - 1) / ramp) as usize;
+            let steer = if third == 1 { -s } else { s };
+            set(&mut sim, GestureParam::TearSteer, steer);
+            set(&mut sim, GestureParam::TearAmount, k as f32 / ramp as f32);
+            common::step_torn(&mut sim, &mut out, k, &mut last_length);
+            if sim.tear().started && !sim.tear().separated {
+                path.push(sim.tear().tip());
+            }
+            if k % (ramp / 3) == 0 {
+                ends.push(path.len().saturating_sub(1));
+            }
+        }
+        let span = 6;
+        assert!(ends[0] > 2 * span, "{label}: {} path points", path.len());
+        assert!(ends[2] > ends[1] + span, "{label}: the tear ended early");
+        // Heading at the end of each third against straight down the sheet (−y).
+        let turns = [0, 1, 2].map(|i| {
+            let h = heading(&path, ends[i], span) + std::f64::consts::FRAC_PI_2;
+            (h + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+        });
+        eprintln!(
+            "{label}: headings off the axis {:?} deg",
+            turns.map(|t| (t.to_degrees() * 10.0).round() / 10.0)
+        );
+        for (i, t) in turns.iter().enumerate() {
+            assert!(
+                t.abs() > 5f64.to_radians(),
+                "{label}: third {i} off by {t} rad"
+            );
+        }
+        assert!(
+            turns[0].signum() != turns[1].signum() && turns[1].signum() != turns[2].signum(),
+            "{label}: no zig-zag {turns:?}"
+        );
+        // The steer's sign sets the way (the same rule for every sheet).
+        assert_eq!(turns[0] > 0.0, s > 0.0, "{label}: {turns:?}");
+    }
+}
+
+/// Mean pattern length of the mesh's edges, metres.
+fn mean_edge_m(sp: &sim_core::sheet::physical::PhysMesh) -> f64 {
+    let edges = &sp.topo.edges;
+    let sum: f64 = edges
+        .iter()
+        .map(|e| (sp.pattern[e.v[0] as usize] - sp.pattern[e.v[1] as usize]).norm())
+        .sum();
+    sum / edges.len() as f64
+}
+
+#[test]
+fn the_flaps_open_as_a_cone_whose_apex_is_the_tip() {
+    // M:87–95, thesis T:1333: the flaps either side of the crack form a cone whose apex is the
+    // tip. Half-way through a tear, the two lips' gap (their 3D distance at each pattern point
+    // of the cut) grows linearly with the distance from the tip and closes at the tip.
+    for (size, steer, pos, seed) in [
+        (SheetSize::A4, 0.0, 0.5, 61u64),
+        (SheetSize::A5, 0.5, 0.4, 62),
+        (SheetSize::A6, -0.4, 0.6, 63),
+        (SheetSize::A4, -0.3, 0.3, 64),
+    ] {
+        let label = format!("{size:?} steer {steer} seed {seed}");
+        let (mut sim, _, _) = common::sheet_on_table(size, seed);
+        let mut out = FrameOutput::default();
+        set(&mut sim, GestureParam::TearSteer, steer);
+        set(&mut sim, GestureParam::TearPosition, pos);
+        let mut last_length = 0.0f32;
+        for k in 1..=160u32 {
+            set(
+                &mut sim,
+                GestureParam::TearAmount,
+                (k as f32 / 200.0).min(0.6),
+            );
+            common::step_torn(&mut sim, &mut out, k, &mut last_length);
+        }
+        assert!(sim.tear().started && !sim.tear().separated, "{label}");
+        let sp = &sim.sheet().sp;
+        let tip = sim.tear().tip();
+        // Pairs of lip vertices at one pattern point: (distance from the tip, gap).
+        let mut vs: Vec<u32> = sim.lips().runs().iter().flat_map(|r| r.edge).collect();
+        vs.sort_unstable();
+        vs.dedup();
+        let mut pairs = Vec::new();
+        for (i, &a) in vs.iter().enumerate() {
+            for &b in &vs[i + 1..] {
+                let (pa, pb) = (sp.pattern[a as usize], sp.pattern[b as usize]);
+                if (pa - pb).norm() < 1e-12 {
+                    let gap = (sp.pos[a as usize] - sp.pos[b as usize]).norm();
+                    pairs.push(((pa - tip).norm(), gap));
+                }
+            }
+        }
+        assert!(pairs.len() >= 4, "{label}: {} lip pairs", pairs.len());
+        // Least squares gap = a + b·d.
+        let n = pairs.len() as f64;
+        let (sd, sg) = pairs
+            .iter()
+            .fold((0.0, 0.0), |(x, y), p| (x + p.0, y + p.1));
+        let (md, mg) = (sd / n, sg / n);
+        let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+        for &(d, g) in &pairs {
+            sxy += (d - md) * (g - mg);
+            sxx += (d - md) * (d - md);
+            syy += (g - mg) * (g - mg);
+        }
+        let slope = sxy / sxx;
+        let r = sxy / (sxx * syy).sqrt();
+        let apex_m = md - mg / slope;
+        eprintln!(
+            "{label}: {} pairs, gap = {:.1} mm + {:.3}·d, r {r:.3}, gap closes {:.1} mm from the tip, widest {:.1} mm, edges {:.1} mm",
+            pairs.len(),
+            1e3 * (mg - slope * md),
+            slope,
+            1e3 * apex_m,
+            1e3 * pairs.iter().map(|p| p.1).fold(0.0, f64::max),
+            1e3 * mean_edge_m(sp)
+        );
+        assert!(
+            (0.2..=1.0).contains(&slope),
+            "{label}: the flaps open by {slope} m a metre"
+        );
+        assert!(r > 0.95, "{label}: not a cone (r {r})");
+        // The apex is the tip at the mesh's resolution: the cut's vertices are an edge apart,
+        // and the bent sheet rounds the apex over about an edge.
+        let edge_m = mean_edge_m(sp);
+        assert!(
+            apex_m.abs() < 2.0 * edge_m,
+            "{label}: the gap closes {apex_m} m from the tip (edges {edge_m} m)"
+        );
+    }
+}
