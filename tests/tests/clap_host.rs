@@ -320,6 +320,55 @@ fn saved_state_reloads_and_resaves_byte_identically() {
     assert_same_state(&d.save_state().unwrap(), &s1, "idle reopened project");
 }
 
+/// A project saved with a torn sheet reopens torn (issue 51): the sheet torn in two by the tear
+/// gesture through the host's parameters, saved, reopened in a new instance, resaved byte for
+/// byte, and played on: still two pieces (the same mesh), the tear not going on (the amount
+/// stays at its highest value), the sound finite.
+#[test]
+fn a_torn_sheet_saves_with_the_project_and_reopens_torn() {
+    let _serial = serial();
+    let b = bundle();
+    let sr = 48_000.0;
+    let mut a = instance(&b);
+    a.set_offline(true).unwrap();
+    let (pos, amount) = (a.param("Tear Position"), a.param("Tear Amount"));
+    let mut events = vec![HostEvent::Param {
+        at: 0,
+        id: pos,
+        value: 0.4,
+    }];
+    // Tear Amount ramped 0 → 1 over 2 s, a point every 10 ms.
+    events.extend((1..=200u64).map(|k| HostEvent::Param {
+        at: k * 480,
+        id: amount,
+        value: k as f64 / 200.0,
+    }));
+    let (l, r) = a.render(sr, 512, &[], (4.0 * sr) as u64, &events).unwrap();
+    assert!(all_finite_normal(&l) && all_finite_normal(&r));
+    let s1 = a.save_state().unwrap();
+    let sheet = saved_sheet(&s1);
+    assert_eq!(sheet["tear"]["separated"], true, "torn in two at the save");
+    let vertices = sheet["pattern_m"].as_array().unwrap().len();
+    let torn_m = sheet["tear"]["path_length_m"].as_f64().unwrap();
+    assert!(torn_m > 0.2, "torn {torn_m} m");
+
+    let mut c = instance(&b);
+    c.load_state(&s1).unwrap();
+    assert_same_state(&c.save_state().unwrap(), &s1, "torn re-save after load");
+    assert_eq!(c.param_value(amount), Some(1.0));
+    c.set_offline(true).unwrap();
+    let (l, r) = c.render(sr, 256, &[], sr as u64, &[]).unwrap();
+    assert!(all_finite_normal(&l) && all_finite_normal(&r));
+    let reopened = saved_sheet(&c.save_state().unwrap());
+    assert_eq!(reopened["tear"]["separated"], true, "reopened torn");
+    assert_eq!(
+        reopened["pattern_m"].as_array().unwrap().len(),
+        vertices,
+        "the torn mesh played on"
+    );
+    assert_eq!(reopened["tear"]["path_length_m"].as_f64().unwrap(), torn_m);
+}
+
 /// A project saved in another room than the one the instance last played in (the wall on, the
 /// table higher) reopens in its own room: an instance that played in the default room and was
 /// deactivated, then loads the project and plays a crumple, ends where a fresh instance playing
