@@ -80,6 +80,8 @@ fn analysis_us(name: &str, spacing_frac: f64) -> (f64, f64, usize, usize) {
                 contacts: sim.contacts(),
                 held: &held,
                 time_s: sim.time_s(),
+                vel_start: &sheet.sp.vel,
+                dt_s: 0.005,
             },
             &mut sound,
         );

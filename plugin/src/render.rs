@@ -48,7 +48,9 @@
 //! database level). Friction at the recording slide speed (10 cm/s) plays its spectrum's level.
 //! Tear grains reach ±1 at 0.1 m/s. Then the four [`MixLevels`] (smoothed, 10 ms).
 
+pub mod air;
 pub mod counters;
+pub mod crackle;
 pub mod default_db;
 pub mod dipole;
 pub mod ears;
@@ -71,7 +73,9 @@ use sim_core::room::Plane;
 use sim_core::sound_input::{CrumpleEvent, SoundFrame};
 use sounddb::SoundDb;
 
+use self::air::AirNoise;
 pub use self::counters::RenderCounters;
+use self::crackle::Crackle;
 pub use self::default_db::default_db;
 use self::dipole::{COS_FLOOR, MAX_REFLECTORS};
 use self::ears::Ears;
@@ -165,6 +169,8 @@ pub struct RenderOptions {
     pub skip_silent_friction: bool,
     /// Do not run the tear generator while the speed is 0.
     pub skip_idle_tear: bool,
+    /// Do not run the air and crackle generators while the sheet moves no air and no bend.
+    pub skip_idle_air: bool,
     /// Reference mode: run the image code even without a reflector, with silent taps.
     pub force_image_path: bool,
     /// Reuse a friction source's |H(ω)| while it stays within 1 mm / 0.01 of where it was
@@ -181,6 +187,7 @@ impl Default for RenderOptions {
             merge: true,
             skip_silent_friction: true,
             skip_idle_tear: true,
+            skip_idle_air: true,
             force_image_path: false,
             cache_geometry: true,
             cos_floor: COS_FLOOR,
@@ -196,6 +203,7 @@ impl RenderOptions {
             merge: false,
             skip_silent_friction: false,
             skip_idle_tear: false,
+            skip_idle_air: false,
             force_image_path: true,
             cache_geometry: false,
             cos_floor: COS_FLOOR,
@@ -236,6 +244,10 @@ pub struct Renderer {
     gains: [GainSmoother; 4],
     tear_ear_gain: [GainSmoother; 2],
     tear_tip: [f32; 3],
+    air_ear_gain: [GainSmoother; 2],
+    air: AirNoise,
+    crackle_ear_gain: [GainSmoother; 2],
+    crackle: Crackle,
     opts: RenderOptions,
     voices: VoicePool,
     /// The voices' bus at the unit rate (above 88 kHz), [`voice_bus`].
@@ -243,7 +255,7 @@ pub struct Renderer {
     friction: Friction,
     tear: TearNoise,
     tear_tone: TearTone,
-    bus: [Vec<f32>; 5],
+    bus: [Vec<f32>; 7],
     clock: u64,
     batch: u64,
     last_frame_clock: Option<u64>,
@@ -282,6 +294,10 @@ impl Renderer {
             gains: [GainSmoother::new(1.0, rate); 4],
             tear_ear_gain: [GainSmoother::new(1.0, rate); 2],
             tear_tip: [0.0; 3],
+            air_ear_gain: [GainSmoother::new(0.0, rate); 2],
+            air: AirNoise::new(rate, seed),
+            crackle_ear_gain: [GainSmoother::new(0.0, rate); 2],
+            crackle: Crackle::new(rate, seed),
             opts: RenderOptions::default(),
             voices: VoicePool::new(rate / decimation as f64, seed),
             voice_bus: VoiceBus::new(decimation),
@@ -318,6 +334,16 @@ impl Renderer {
         self.friction.reset();
         self.tear.reset();
         self.tear_tone.reset();
+        self.air.reset();
+        self.crackle.reset();
+        for g in self
+            .air_ear_gain
+            .iter_mut()
+            .chain(self.crackle_ear_gain.iter_mut())
+        {
+            g.set_target(0.0);
+            g.snap();
+        }
         self.tear_tip = [0.0; 3];
         self.update_tear_gains();
         self.snap_gains();
@@ -411,6 +437,45 @@ impl Renderer {
         self.counters.tear_tone_kernels += self.tear_tone.designs() - designs;
         self.tear_tip = frame.tear.tip_m;
         self.update_tear_gains();
+        self.air.set_strength(frame.air.strength_m3_s2, ramp);
+        self.update_air_gains(&frame.air);
+        self.crackle.set_rate(frame.crackle.rate_m_rad_s, ramp);
+        if frame.crackle.rate_m_rad_s > 0.0 {
+            let c = frame.crackle.centre_m.map(f64::from);
+            if c.iter().all(|v| v.is_finite()) {
+                for e in 0..2 {
+                    let ear = self.ears.ear_m[e];
+                    let d = ((ear[0] - c[0]).powi(2)
+                        + (ear[1] - c[1]).powi(2)
+                        + (ear[2] - c[2]).powi(2))
+                    .sqrt()
+                    .max(0.1);
+                    self.crackle_ear_gain[e].set_target((1.0 / d) as f32);
+                }
+            }
+        }
+    }
+
+    /// The air's gain to each ear: 1/d from the moving area's centre (≥ 10 cm) times a dipole
+    /// pattern with a floor, 0.25 + 0.75 |n · r̂| ([`air`]).
+    fn update_air_gains(&mut self, air: &sim_core::sound_input::AirState) {
+        if air.strength_m3_s2.is_nan() || air.strength_m3_s2 <= 0.0 {
+            return;
+        }
+        let c = air.centre_m.map(f64::from);
+        let n = air.normal.map(f64::from);
+        if !c.iter().chain(&n).all(|v| v.is_finite()) {
+            return;
+        }
+        for e in 0..2 {
+            let ear = self.ears.ear_m[e];
+            let r = [ear[0] - c[0], ear[1] - c[1], ear[2] - c[2]];
+            let d = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt().max(0.1);
+            let cos = ((r[0] * n[0] + r[1] * n[1] + r[2] * n[2]) / d)
+                .abs()
+                .min(1.0);
+            self.air_ear_gain[e].set_target(((0.25 + 0.75 * cos) / d) as f32);
+        }
     }
 
     /// Starts a crumple unit at the first sample of the next [`Self::render`] call. No allocation.
@@ -449,13 +514,15 @@ impl Renderer {
 
     fn render_chunk(&mut self, left: &mut [f32], right: &mut [f32]) {
         let n = left.len();
-        let [cl, cr, fl, fr, tm] = &mut self.bus;
-        let (cl, cr, fl, fr, tm) = (
+        let [cl, cr, fl, fr, tm, am, km] = &mut self.bus;
+        let (cl, cr, fl, fr, tm, am, km) = (
             &mut cl[..n],
             &mut cr[..n],
             &mut fl[..n],
             &mut fr[..n],
             &mut tm[..n],
+            &mut am[..n],
+            &mut km[..n],
         );
         let db: &SoundDb = if self.db_usable {
             &self.db
@@ -485,14 +552,24 @@ impl Renderer {
         self.tear_tone.process(tm, ran == 0);
         self.counters.tear_samples += ran;
         self.counters.tear_samples_skipped += n as u64 - ran;
+        let ran = self.air.render(am, self.opts.skip_idle_air) as u64;
+        self.counters.air_samples += ran;
+        self.counters.air_samples_skipped += n as u64 - ran;
+        let ran = self.crackle.render(km, self.opts.skip_idle_air) as u64;
+        self.counters.crackle_samples += ran;
+        self.counters.crackle_samples_skipped += n as u64 - ran;
         let [gc, gf, gt, go] = &mut self.gains;
         let [tl, tr] = &mut self.tear_ear_gain;
+        let [al, ar] = &mut self.air_ear_gain;
+        let [kl, kr] = &mut self.crackle_ear_gain;
         let (mut clipped, mut nonfinite) = (0u64, 0u64);
         for t in 0..n {
             let (c, f, te, o) = (gc.tick(), gf.tick(), gt.tick(), go.tick());
             let (el, er) = (tl.tick(), tr.tick());
-            let l = o * (c * cl[t] + f * fl[t] + te * el * tm[t]);
-            let r = o * (c * cr[t] + f * fr[t] + te * er * tm[t]);
+            let (ql, qr) = (al.tick(), ar.tick());
+            let (xl, xr) = (kl.tick(), kr.tick());
+            let l = o * (c * (cl[t] + ql * am[t] + xl * km[t]) + f * fl[t] + te * el * tm[t]);
+            let r = o * (c * (cr[t] + qr * am[t] + xr * km[t]) + f * fr[t] + te * er * tm[t]);
             let (l, lc, ln) = output_stage::safety(l);
             let (r, rc, rn) = output_stage::safety(r);
             left[t] = l;

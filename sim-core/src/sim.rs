@@ -353,6 +353,8 @@ pub struct Sim {
     frame_start_pos: Vec<V3>,
     /// S_P positions at the start of every awake frame (the sleep test's motion).
     motion_start_pos: Vec<V3>,
+    /// Velocities at the start of the frame (the air the sheet moves, sound_analysis/air.rs).
+    motion_start_vel: Vec<V3>,
     /// S_P pattern at the start of the frame (kept with `frame_start_pos`): a singular point
     /// placed in a frame that is then undone has moved a vertex in the pattern.
     frame_start_pattern: Vec<V2>,
@@ -472,6 +474,7 @@ impl Sim {
             },
             frame_start_pos: Vec::with_capacity(mesh_capacity.0),
             motion_start_pos: Vec::with_capacity(mesh_capacity.0),
+            motion_start_vel: Vec::with_capacity(mesh_capacity.0),
             frame_start_pattern: Vec::with_capacity(mesh_capacity.0),
             pre_limit_pos: Vec::with_capacity(mesh_capacity.0),
             stalled_pos: Vec::with_capacity(mesh_capacity.0),
@@ -762,6 +765,7 @@ impl Sim {
         }
         self.frames_simulated += 1;
         self.motion_start_pos.clone_from(&self.sheet.sp.pos);
+        self.motion_start_vel.clone_from(&self.sheet.sp.vel);
         self.stopwatch.start(self.phase_timing);
         self.phase_ns = PhaseTimes::default();
         let dt = 1.0 / self.cfg.frame_rate_hz;
@@ -909,6 +913,8 @@ impl Sim {
                 contacts: &self.contacts,
                 held: &self.fixed,
                 time_s: self.time_s(),
+                vel_start: &self.motion_start_vel,
+                dt_s: dt,
             },
             &mut out.sound,
         );

@@ -86,6 +86,8 @@
 //! analysed at all (the simulation skips the call). The analysis of a ~140-triangle sheet
 //! costs tens of microseconds (benchmarks: `docs/benchmarks.md`), against the seeds' 5–75 ms.
 
+pub mod air;
+pub mod crackle;
 pub mod curvature;
 pub mod curvature_grid;
 pub mod friction_events;
@@ -155,6 +157,10 @@ pub struct AnalysisInput<'a> {
     pub held: &'a [bool],
     /// Simulated time of the frame, seconds (refractory periods).
     pub time_s: f64,
+    /// Velocities at the frame's start (same indexing as S_P), for the air ([`air`]).
+    pub vel_start: &'a [crate::math::V3],
+    /// The frame's length, seconds (0: no air this frame).
+    pub dt_s: f64,
 }
 
 /// Counts of one frame's analysis (meters, reports, tests).
@@ -349,6 +355,11 @@ impl SoundAnalysis {
         );
         self.stats.regions = self.regions.num_regions() as u32;
 
+        // The air the sheet moves (beyond the seeds, [`air`]).
+        out.air = air::air_source(sp, input.vel_start, input.contacts, input.held, input.dt_s);
+        // The crackle under the events (beyond the seeds, [`crackle`]).
+        out.crackle = crackle::crackle_source(sp);
+
         // Crumple events from curvature flips.
         self.grid.sample(sp, &self.curvature);
         let flips = self.grid.detect_flips(&cfg, input.time_s);
@@ -493,6 +504,8 @@ mod tests {
                 contacts: &contacts,
                 held: &held,
                 time_s,
+                vel_start: &[],
+                dt_s: 0.0,
             },
             &mut out,
         );
@@ -645,6 +658,8 @@ mod tests {
             contacts: &none_c,
             held: &none_h,
             time_s: 0.0,
+            vel_start: &[],
+            dt_s: 0.0,
         };
         an.analyze(&input, &mut out);
         an.finder.begin();
@@ -688,6 +703,8 @@ mod tests {
                 contacts: &c,
                 held: &h,
                 time_s: 0.0,
+                vel_start: &[],
+                dt_s: 0.0,
             };
             an.analyze(&input, &mut SoundFrame::default());
             assert_eq!(an.regions.num_regions(), 1);
@@ -729,6 +746,8 @@ mod tests {
             contacts: &c,
             held: &h,
             time_s: 0.0,
+            vel_start: &[],
+            dt_s: 0.0,
         };
         let mut out = SoundFrame::default();
         an.analyze(&input, &mut out);
@@ -751,6 +770,8 @@ mod tests {
             contacts: &c,
             held: &held,
             time_s: 1.0,
+            vel_start: &[],
+            dt_s: 0.0,
         };
         an.analyze(&input, &mut out);
         let t = (0..sp.num_triangles() as u32)
@@ -812,6 +833,8 @@ mod tests {
                 contacts: &c,
                 held: &h,
                 time_s: 0.0,
+                vel_start: &[],
+                dt_s: 0.0,
             };
             an.analyze(&input, &mut SoundFrame::default());
             let t = (0..sp.num_triangles())
@@ -899,6 +922,8 @@ mod tests {
                 contacts: &contacts,
                 held: &held,
                 time_s: 0.0,
+                vel_start: &[],
+                dt_s: 0.0,
             },
             &mut out,
         );
@@ -924,6 +949,8 @@ mod tests {
                 contacts: &contacts,
                 held: &held,
                 time_s: 0.0,
+                vel_start: &[],
+                dt_s: 0.0,
             },
             &mut out,
         );
@@ -945,6 +972,8 @@ mod tests {
                 contacts: &contacts,
                 held: &held,
                 time_s: 0.0,
+                vel_start: &[],
+                dt_s: 0.0,
             },
             &mut out,
         );

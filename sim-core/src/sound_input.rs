@@ -99,6 +99,29 @@ pub struct TearState {
     pub resonator: Resonator,
 }
 
+/// The air the sheet moves (beyond the seeds; [`crate::sound_analysis::air`]): how hard the
+/// sheet's free parts accelerate through the air this frame, and where.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AirState {
+    /// Σ A |a_n| over the free triangles (area × normal acceleration), m³/s²; 0 when the
+    /// sheet moves no air.
+    pub strength_m3_s2: f32,
+    /// Centre of the moving area (weighted by A |a_n|), world metres.
+    pub centre_m: [f32; 3],
+    /// Mean normal of the moving area (weighted by A |a_n|, unit; the dipole's axis).
+    pub normal: [f32; 3],
+}
+
+/// The crackle of the sheet being deformed (beyond the seeds;
+/// [`crate::sound_analysis::crackle`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CrackleState {
+    /// D = Σ ℓ |θ̇| weighted by how bent each hinge is, m·rad/s; 0 when nothing bent moves.
+    pub rate_m_rad_s: f32,
+    /// Where it comes from (weighted centroid), world metres.
+    pub centre_m: [f32; 3],
+}
+
 /// One frame of sound input, fixed capacity, no heap data.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SoundFrame {
@@ -112,6 +135,10 @@ pub struct SoundFrame {
     friction: [FrictionSource; MAX_FRICTION_SOURCES],
     /// The tear.
     pub tear: TearState,
+    /// The air the sheet moves.
+    pub air: AirState,
+    /// The crackle of the sheet being deformed.
+    pub crackle: CrackleState,
     /// Number of crumple events that did not fit (counted, not lost silently).
     pub dropped_crumple: u32,
     /// Number of friction sources that did not fit.
@@ -128,6 +155,8 @@ impl Default for SoundFrame {
             num_friction: 0,
             friction: [FrictionSource::default(); MAX_FRICTION_SOURCES],
             tear: TearState::default(),
+            air: AirState::default(),
+            crackle: CrackleState::default(),
             dropped_crumple: 0,
             dropped_friction: 0,
         }
@@ -140,6 +169,8 @@ impl SoundFrame {
         self.num_crumple = 0;
         self.num_friction = 0;
         self.tear = TearState::default();
+        self.air = AirState::default();
+        self.crackle = CrackleState::default();
         self.dropped_crumple = 0;
         self.dropped_friction = 0;
     }

@@ -58,6 +58,9 @@ fn render_friction(frames: &[SoundFrame], scene: Scene) -> Vec<f32> {
     for f in frames {
         let mut g = *f;
         g.take_crumple_count();
+        // Friction only: the air and the crackle play on the crumple bus.
+        g.air = Default::default();
+        g.crackle = Default::default();
         r.set_frame(&g);
         let (l, _) = render(&mut r, per_frame, per_frame);
         left.extend_from_slice(&l);

@@ -21,6 +21,8 @@
 //! | `crumple` | array (optional, ≤ 32) | crumple events: `amplitude` (finite) and `resonator` |
 //! | `friction` | array (optional, ≤ 32) | friction sources: `slip_speed_m_s` (≥ 0), `obstacle` (`table`, `wall`, `floor`, `self_contact`; default `table`) and `resonator` |
 //! | `tear` | object (optional) | `speed_m_s` (≥ 0), `tip_m`, `length_m` (optional), `onset` (optional, default false) and `resonator` (optional: the flaps that colour the noise) |
+//! | `air` | object (optional) | the air the sheet moves: `strength_m3_s2` (≥ 0), `centre_m`, `normal` |
+//! | `crackle` | object (optional) | the crackle of the sheet being deformed: `rate_m_rad_s` (≥ 0), `centre_m` |
 //! | `dropped_crumple`, `dropped_friction` | u32 (optional) | events the simulation could not fit |
 //!
 //! A `resonator` has `lr_cm` and `lc_cm` (≥ 0; `lc_cm` = 0 is constrained; `lc_cm` is the TOTAL
@@ -33,8 +35,8 @@ use std::io::{BufRead, Write};
 
 use serde::{Deserialize, Serialize};
 use sim_core::sound_input::{
-    CrumpleEvent, FrictionSource, MAX_CRUMPLE_EVENTS, MAX_FRICTION_SOURCES, Obstacle, Resonator,
-    SoundFrame, TearState,
+    AirState, CrackleState, CrumpleEvent, FrictionSource, MAX_CRUMPLE_EVENTS, MAX_FRICTION_SOURCES,
+    Obstacle, Resonator, SoundFrame, TearState,
 };
 
 /// Why a log could not be read.
@@ -140,6 +142,31 @@ pub struct TearRecord {
     pub resonator: Option<ResonatorRecord>,
 }
 
+/// The air record (absent: the sheet moved no air).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct AirRecord {
+    /// Σ A |a_n|, m³/s².
+    pub strength_m3_s2: f32,
+    /// Centre, m.
+    #[serde(default)]
+    pub centre_m: [f32; 3],
+    /// Mean normal.
+    #[serde(default)]
+    pub normal: [f32; 3],
+}
+
+/// The crackle record (absent: nothing bent moved).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct CrackleRecord {
+    /// D, m·rad/s.
+    pub rate_m_rad_s: f32,
+    /// Centre, m.
+    #[serde(default)]
+    pub centre_m: [f32; 3],
+}
+
 fn is_false(b: &bool) -> bool {
     !*b
 }
@@ -165,6 +192,12 @@ pub struct FrameRecord {
     /// Tear.
     #[serde(default)]
     pub tear: TearRecord,
+    /// Air.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub air: Option<AirRecord>,
+    /// Crackle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crackle: Option<CrackleRecord>,
     /// Dropped crumple events.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub dropped_crumple: u32,
@@ -253,6 +286,15 @@ impl From<&SoundFrame> for FrameRecord {
                 onset: f.tear.onset,
                 resonator: (f.tear.resonator.radius_m > 0.0).then(|| res_record(&f.tear.resonator)),
             },
+            air: (f.air.strength_m3_s2 > 0.0).then_some(AirRecord {
+                strength_m3_s2: f.air.strength_m3_s2,
+                centre_m: f.air.centre_m,
+                normal: f.air.normal,
+            }),
+            crackle: (f.crackle.rate_m_rad_s > 0.0).then_some(CrackleRecord {
+                rate_m_rad_s: f.crackle.rate_m_rad_s,
+                centre_m: f.crackle.centre_m,
+            }),
             dropped_crumple: f.dropped_crumple,
             dropped_friction: f.dropped_friction,
         }
@@ -332,6 +374,37 @@ impl FrameRecord {
             onset: self.tear.onset,
             resonator,
         };
+        if let Some(a) = &self.air {
+            if !(a.strength_m3_s2.is_finite() && a.strength_m3_s2 >= 0.0) {
+                return Err(format!(
+                    "air.strength_m3_s2 = {} must be finite and ≥ 0",
+                    a.strength_m3_s2
+                ));
+            }
+            if !a.centre_m.iter().chain(&a.normal).all(|v| v.is_finite()) {
+                return Err("air.centre_m and air.normal must be finite".into());
+            }
+            f.air = AirState {
+                strength_m3_s2: a.strength_m3_s2,
+                centre_m: a.centre_m,
+                normal: a.normal,
+            };
+        }
+        if let Some(c) = &self.crackle {
+            if !(c.rate_m_rad_s.is_finite() && c.rate_m_rad_s >= 0.0) {
+                return Err(format!(
+                    "crackle.rate_m_rad_s = {} must be finite and ≥ 0",
+                    c.rate_m_rad_s
+                ));
+            }
+            if !c.centre_m.iter().all(|v| v.is_finite()) {
+                return Err("crackle.centre_m must be finite".into());
+            }
+            f.crackle = CrackleState {
+                rate_m_rad_s: c.rate_m_rad_s,
+                centre_m: c.centre_m,
+            };
+        }
         f.dropped_crumple = self.dropped_crumple;
         f.dropped_friction = self.dropped_friction;
         Ok(f)

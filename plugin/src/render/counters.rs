@@ -69,6 +69,15 @@ pub struct RenderCounters {
     /// Tear-tone kernels designed (the flaps' cell changed).
     pub tear_tone_kernels: u64,
 
+    /// Air-noise samples generated (render/air.rs).
+    pub air_samples: u64,
+    /// Air-noise samples skipped: the sheet moved no air.
+    pub air_samples_skipped: u64,
+    /// Crackle samples generated (render/crackle.rs).
+    pub crackle_samples: u64,
+    /// Crackle samples skipped: no bent part of the sheet moved.
+    pub crackle_samples_skipped: u64,
+
     /// Output samples (per channel) touched by the safety clipper.
     pub clipped_samples: u64,
     /// Non-finite output samples replaced by 0 (should stay 0).

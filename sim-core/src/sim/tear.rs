@@ -525,6 +525,8 @@ impl super::Sim {
                         contacts: &self.contacts,
                         held: &self.fixed,
                         time_s: self.time_s(),
+                        vel_start: &[],
+                        dt_s: 0.0,
                     },
                     self.tear.mesh_tip,
                     tip_tri,

@@ -210,6 +210,16 @@ pub fn busy_steps(frames: usize, seed: u64) -> Vec<Step> {
             if i % 40 < 20 {
                 frame.tear.resonator = resonator(sizes[(i / 5) % 6], sizes[(i / 10) % 6]);
             }
+            // The air and the crackle come and go (render/air.rs, render/crackle.rs).
+            if i % 50 < 30 {
+                frame.air.strength_m3_s2 = 0.05 + 0.5 * g.next();
+                frame.air.centre_m = [0.1 * g.next(), 0.0, 0.8];
+                frame.air.normal = [0.0, g.next() - 0.5, 1.0];
+            }
+            if i % 30 < 20 {
+                frame.crackle.rate_m_rad_s = 20.0 * g.next();
+                frame.crackle.centre_m = [0.0, 0.1 * g.next(), 0.78];
+            }
             Step { frame, events }
         })
         .collect()
