@@ -3,7 +3,8 @@
 //! `cargo bench -p papier --bench render -- --warm-up-time 1 --measurement-time 3`
 //!
 //! 1. **full scene** (test 2): 64 crumple voices kept playing (32 new distinct events every
-//!    100 ms, the pool steals), 16 friction sources, tearing (coloured by flaps), table + wall reflectors, frames every
+//!    100 ms, the pool steals), 16 friction sources, tearing (coloured by flaps), the air and the crackle,
+//!    table + wall reflectors, frames every
 //!    5 ms — at 44.1 / 48 / 96 / 192 kHz with blocks of 64 / 256 / 1024. Criterion measures the time to
 //!    render one second of audio (the ratio to real time is time / 1 s).
 //! 2. **friction only** (test 1): one friction stream summing 16 sources with table + wall, 60 s
@@ -78,6 +79,12 @@ impl Scenario {
         frame.tear.tip_m = [0.05, 0.0, 0.76];
         // Flaps at the tip: the tear is coloured by a full kernel (the worst case).
         frame.tear.resonator = resonator(10.0, 20.0, 0.05, 0.0);
+        // The air a moving sheet pushes and the crackle of its bends, both playing.
+        frame.air.strength_m3_s2 = 0.3;
+        frame.air.centre_m = [0.0, 0.0, 0.85];
+        frame.air.normal = [0.0, -0.5, 0.8];
+        frame.crackle.rate_m_rad_s = 10.0;
+        frame.crackle.centre_m = [0.02, 0.0, 0.78];
         let events = (0..64)
             .map(|k| CrumpleEvent {
                 amplitude: 0.3 + 0.01 * k as f32,
