@@ -221,21 +221,22 @@ impl SoundDb {
         let unit_rate = rate / unit_decimation(rate) as f64;
         let resampler = (f64::from(db.sample_rate_hz) != unit_rate)
             .then(|| Resampler::new(f64::from(db.sample_rate_hz), unit_rate));
+        let resampled = match &resampler {
+            Some(r) => resample_units(r, &db.units),
+            None => Vec::new(),
+        };
         let mut pcm: Vec<i16> = Vec::new();
         let mut units = Vec::with_capacity(db.units.len());
         for (k, members) in order.iter().enumerate() {
             crumple_cells[k].first_unit = units.len() as u32;
             crumple_cells[k].num_units = members.len() as u32;
             for &i in members {
-                let src = &db.units[i].samples;
-                let resampled;
-                let samples: &[f32] = match &resampler {
+                let samples: &[f32] = match resampled.get(i) {
                     Some(r) => {
                         stats.resampled_units += 1;
-                        resampled = r.process(src);
-                        &resampled
+                        r
                     }
-                    None => src,
+                    None => &db.units[i].samples,
                 };
                 let peak = samples.iter().fold(0.0f32, |m, s| m.max(s.abs()));
                 let scale = if peak > 0.0 { peak / 32767.0 } else { 1.0 };
@@ -430,6 +431,42 @@ impl SoundDb {
             + 2 * std::mem::size_of::<CellIndex>()
             + (self.crumple_index.len() + self.friction_index.len()) * 12
     }
+}
+
+/// Every unit resampled, in the units' order, on up to four threads: each unit is resampled on
+/// its own, so the result is the same whatever the threads (the resampling was most of a
+/// render's start-up at 48 kHz; docs/benchmarks.md, "Start-up of a render").
+fn resample_units(r: &Resampler, units: &[crate::database::Unit]) -> Vec<Vec<f32>> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 4)
+        .min(units.len().div_ceil(8).max(1));
+    if threads <= 1 {
+        return units.iter().map(|u| r.process(&u.samples)).collect();
+    }
+    let per = units.len().div_ceil(threads);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = units
+            .chunks(per)
+            .map(|chunk| {
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|u| r.process(&u.samples))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        let mut out = Vec::with_capacity(units.len());
+        for h in handles {
+            match h.join() {
+                Ok(part) => out.extend(part),
+                // A thread that failed (it cannot, short of memory): do it all here instead.
+                Err(_) => return units.iter().map(|u| r.process(&u.samples)).collect(),
+            }
+        }
+        out
+    })
 }
 
 #[cfg(test)]

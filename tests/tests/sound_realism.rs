@@ -220,4 +220,3 @@ points = [[0.0, 0.0], [1.5, 0.4]]
     assert_eq!((air, crackle), (0, 0));
     assert!(out.iter().all(|v| *v == 0.0));
 }
-
