@@ -64,7 +64,8 @@ pub use self::sheet_store::SheetStore;
 pub use self::view::{ViewFrame, ViewShared};
 use self::volume_changes::VolumeChanges;
 use self::worker::{WorkerHandle, WorkerShared, WorkerState};
-use crate::gesture_map::{self, Action, MidiInput};
+use crate::gesture_map::{self, Action, MidiInput, NOTE_RELEASE_ALL, NOTE_RESET};
+use crate::phrase::{PhraseBank, PhrasePlayer};
 use crate::render::{MixLevels, Renderer, Scene};
 
 /// How the sheet is simulated.
@@ -84,6 +85,21 @@ pub fn sync_fresh_sim(sim: &mut Sim, params: &ParamValues) {
         if sim.gesture(g).to_bits() != value.to_bits() {
             sim.apply(Command::Gesture { param: g, value });
         }
+    }
+}
+
+/// Queues a message for the sheet; a full queue drops it and counts it.
+fn send_to(host: &mut Host, meters: &Meters, at_sample: u64, kind: WorkerMsgKind) {
+    let queued = match host {
+        Host::Lockstep(l) => l.frames.queue(WorkerMsg { at_sample, kind }),
+        Host::Threaded(t) => t
+            .shared
+            .commands
+            .push(WorkerMsg { at_sample, kind })
+            .is_ok(),
+    };
+    if !queued {
+        meters.commands_dropped.fetch_add(1, Ordering::Relaxed);
     }
 }
 
@@ -130,6 +146,8 @@ pub struct Engine {
     host: Host,
     /// Copies of the sound frames delivered in lockstep mode, while recording.
     recorded: Option<Vec<SoundFrame>>,
+    /// Phrases playing from notes ([`crate::phrase`]).
+    phrases: PhrasePlayer,
 }
 
 /// The MIDI volume (linear gain) in effect and its queued changes.
@@ -257,6 +275,7 @@ impl Engine {
             meters,
             host,
             recorded: None,
+            phrases: PhrasePlayer::new(Arc::new(PhraseBank::default())),
         })
     }
 
@@ -332,32 +351,49 @@ impl Engine {
     }
 
     fn send(&mut self, at_sample: u64, kind: WorkerMsgKind) {
-        match &mut self.host {
-            Host::Lockstep(l) => {
-                if !l.frames.queue(WorkerMsg { at_sample, kind }) {
-                    self.meters.commands_dropped.fetch_add(1, Ordering::Relaxed);
-                }
-            }
-            Host::Threaded(t) => {
-                if t.shared
-                    .commands
-                    .push(WorkerMsg { at_sample, kind })
-                    .is_err()
-                {
-                    self.meters.commands_dropped.fetch_add(1, Ordering::Relaxed);
-                }
-            }
-        }
+        send_to(&mut self.host, &self.meters, at_sample, kind);
     }
 
     fn command(&mut self, at_sample: u64, cmd: Command) {
         self.send(at_sample, WorkerMsgKind::Command(cmd));
     }
 
+    /// Replaces the phrase bank (every phrase stops); returns the old one, to be dropped off the
+    /// audio thread. Allocation-free.
+    pub fn swap_phrases(&mut self, bank: Arc<PhraseBank>) -> Arc<PhraseBank> {
+        self.phrases.swap_bank(bank)
+    }
+
+    /// The phrase bank in use.
+    pub fn phrase_bank(&self) -> &Arc<PhraseBank> {
+        self.phrases.bank()
+    }
+
+    /// Phrases playing now.
+    pub fn phrases_playing(&self) -> usize {
+        self.phrases.playing()
+    }
+
+    /// Sends the phrases' commands stamped before sample `to`.
+    fn advance_phrases(&mut self, to: u64) {
+        let Self {
+            phrases,
+            host,
+            meters,
+            frames,
+            last,
+            ..
+        } = self;
+        phrases.advance(to, frames, last, |at, cmd| {
+            send_to(host, meters, at, WorkerMsgKind::Command(cmd));
+        });
+    }
+
     /// Start of a block (or of a sub-block after a parameter change): diffs the parameters.
     /// Allocation-free.
     pub fn begin_block(&mut self, p: &ParamValues) {
         let at = self.clock;
+        self.advance_phrases(at);
         let generation = self.store.generation();
         let restored = generation != self.store_generation;
         if restored {
@@ -407,6 +443,33 @@ impl Engine {
     /// A MIDI message at `offset` samples into the current block. Allocation-free.
     pub fn midi(&mut self, input: MidiInput, offset: u32) {
         let at = self.clock + u64::from(offset);
+        self.advance_phrases(at);
+        match input {
+            MidiInput::NoteOn { key, velocity } => {
+                if key == NOTE_RESET || key == NOTE_RELEASE_ALL {
+                    self.phrases.stop_all();
+                } else if self.phrases.note_on(at, key, velocity, self.last.seed) {
+                    return;
+                }
+            }
+            MidiInput::NoteOff { key } => {
+                let Self {
+                    phrases,
+                    host,
+                    meters,
+                    ..
+                } = self;
+                phrases.note_off(at, key, |at, cmd| {
+                    send_to(host, meters, at, WorkerMsgKind::Command(cmd));
+                });
+            }
+            MidiInput::AllNotesOff => self.phrases.stop_all(),
+            MidiInput::Cc { cc, .. } => {
+                if matches!(cc, 120 | 121 | 123) {
+                    self.phrases.stop_all();
+                }
+            }
+        }
         match gesture_map::map(input) {
             Action::None => {}
             Action::Sim(cmd) => self.command(at, cmd),
@@ -441,6 +504,7 @@ impl Engine {
     /// project at the end of a block in which the sheet moved allocate, inside the permit.
     pub fn render(&mut self, left: &mut [f32], right: &mut [f32]) {
         let n = left.len().min(right.len());
+        self.advance_phrases(self.clock + n as u64);
         match &mut self.host {
             Host::Lockstep(l) => {
                 // The sheet was built on another thread than this one: the solver's dense

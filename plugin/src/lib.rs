@@ -10,6 +10,7 @@
 //! - [`params`]: the automatable parameters and the persisted state layout;
 //! - [`gesture_map`]: MIDI → gesture commands (shared with `papier-render`);
 //! - [`engine`]: parameter diffing, the simulation thread / lockstep stepping, the render call;
+//! - [`phrase`]: gesture scripts played from MIDI notes (C4 up);
 //! - [`render`]: the audio render path (no nice-plug types);
 //! - [`state`]: the sheet saved with the project (the persistence adapter);
 //! - [`state_check`]: a saved state's version and parameters checked before they load;
@@ -23,6 +24,7 @@ pub mod engine;
 pub mod gesture_map;
 pub mod offline;
 pub mod params;
+pub mod phrase;
 pub mod render;
 pub mod state;
 pub mod state_check;

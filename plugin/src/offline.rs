@@ -88,6 +88,26 @@ macro_rules! say {
     }};
 }
 
+/// The phrases `papier-render` plays from MIDI notes: the factory set, plus a folder's.
+pub fn phrase_bank(dir: Option<&std::path::Path>) -> crate::phrase::PhraseBank {
+    match dir {
+        Some(d) => crate::phrase::PhraseBank::with_folder(d),
+        None => crate::phrase::PhraseBank::factory(),
+    }
+}
+
+/// A note's name, C4 = 60.
+pub fn note_name(note: u8) -> String {
+    const NAMES: [&str; 12] = [
+        "C", "C#", "D", "D#", "E", "F", "F#", "G", "G#", "A", "A#", "B",
+    ];
+    format!(
+        "{}{}",
+        NAMES[usize::from(note % 12)],
+        i32::from(note / 12) - 1
+    )
+}
+
 /// `papier-render`'s entry point: parses the arguments (without the program name), renders,
 /// prints the report, and returns the exit code.
 pub fn main_with_args(args: &[String]) -> i32 {
@@ -106,6 +126,27 @@ pub fn main_with_args(args: &[String]) -> i32 {
         cli::Cli::ListScenes => {
             for n in scene_names() {
                 say!("{n}");
+            }
+            0
+        }
+        cli::Cli::ListPhrases(dir) => {
+            let bank = phrase_bank(dir.as_deref());
+            for e in &bank.errors {
+                eprintln!("papier-render: warning: {e}");
+            }
+            for p in bank.by_note() {
+                let start = match p.start {
+                    crate::phrase::PhraseStart::Fresh => "fresh",
+                    crate::phrase::PhraseStart::Current => "current",
+                };
+                say!(
+                    "{:>3}  {:<4} {:<28} {:>5.1} s  {start}  ({})",
+                    p.note,
+                    note_name(p.note),
+                    p.name,
+                    p.duration_s,
+                    p.source
+                );
             }
             0
         }

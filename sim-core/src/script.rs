@@ -26,6 +26,9 @@
 //!
 //! [[reset]]
 //! at_s = 1.0
+//!
+//! [phrase]                    # optional: read by the plugin's phrase loader, not by scripts
+//! note = 60
 //! ```
 //!
 //! Parsing checks the structure (types, finite and non-negative times, ordering, known slots);
@@ -207,6 +210,9 @@ pub struct Script {
     pub grabs: Vec<GrabSpan>,
     /// Reset times, seconds.
     pub resets: Vec<f64>,
+    /// The `[phrase]` table, untouched: how the plugin binds the script to a MIDI note. A script
+    /// played as a script ignores it.
+    pub phrase: Option<toml::Table>,
 }
 
 #[derive(Deserialize)]
@@ -222,6 +228,7 @@ struct RawScript {
     grab: Vec<RawGrab>,
     #[serde(default)]
     reset: Vec<RawReset>,
+    phrase: Option<toml::Table>,
 }
 
 #[derive(Deserialize)]
@@ -420,6 +427,7 @@ impl Script {
             lanes,
             grabs,
             resets,
+            phrase: raw.phrase,
         })
     }
 

@@ -64,6 +64,11 @@ impl FrameClock {
         s.clamp(self.start(k), self.end(k) - 1)
     }
 
+    /// The sample rate it was built for, Hz (after sanitizing).
+    pub fn sample_rate_hz(&self) -> f64 {
+        self.samples_per_frame * self.frame_rate_hz
+    }
+
     /// Samples per frame (fractional).
     pub fn samples_per_frame(&self) -> f64 {
         self.samples_per_frame

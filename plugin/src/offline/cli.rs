@@ -3,8 +3,8 @@
 //! ```text
 //! papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
 //!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
-//!               [--obj-dir DIR] [--obj-fps N] [--db DIR] [--write-frames FILE.jsonl] [--quiet]
-//!               [--realtime]
+//!               [--obj-dir DIR] [--obj-fps N] [--db DIR] [--phrases DIR] [--write-frames FILE.jsonl]
+//!               [--quiet] [--realtime]
 //! papier-render --frames FILE.jsonl --out FILE.wav
 //!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
 //! papier-render --batch FILE.toml [--shard I/N] [--jobs N] [--quiet]
@@ -64,6 +64,8 @@ pub struct RenderOptions {
     pub obj_fps: f64,
     /// User sound database directory.
     pub db: Option<PathBuf>,
+    /// Folder of the user's phrases (added to the factory phrases).
+    pub phrases: Option<PathBuf>,
     /// Where to record the sound frames of the render (JSON lines), if anywhere.
     pub write_frames: Option<PathBuf>,
     /// Print only errors.
@@ -87,6 +89,7 @@ impl RenderOptions {
             obj_dir: None,
             obj_fps: 30.0,
             db: None,
+            phrases: None,
             write_frames: None,
             quiet: false,
             realtime: false,
@@ -103,6 +106,8 @@ pub enum Cli {
     Help,
     /// List the built-in scenes.
     ListScenes,
+    /// List the phrases (factory, and the folder's if given).
+    ListPhrases(Option<PathBuf>),
     /// Render the takes of a job file (`--batch`).
     Batch {
         /// The job file.
@@ -129,12 +134,12 @@ pub enum Cli {
 pub const USAGE: &str =
     "usage: papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
                      [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
-                     [--obj-dir DIR] [--obj-fps N] [--db DIR] [--write-frames FILE.jsonl] [--quiet]
-                     [--realtime]
+                     [--obj-dir DIR] [--obj-fps N] [--db DIR] [--phrases DIR]
+                     [--write-frames FILE.jsonl] [--quiet] [--realtime]
        papier-render --frames FILE.jsonl --out FILE.wav
                      [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
        papier-render --batch FILE.toml [--shard I/N] [--jobs N] [--quiet]
-       papier-render --list-scenes
+       papier-render --list-scenes | --list-phrases [--phrases DIR]
 Renders Papier offline (the plugin's engine, stepped in lockstep with the audio) to a WAV file.
   --midi FILE        play a Standard MIDI File (README: MIDI map)
   --script FILE      play a TOML automation script (sim-core/src/script.rs)
@@ -151,6 +156,8 @@ Renders Papier offline (the plugin's engine, stepped in lockstep with the audio)
   --obj-dir DIR      write the sheet as frame_00000.obj, ... (v: metres, vt: pattern metres)
   --obj-fps N        OBJ frames per second (default 30)
   --db DIR           use a user sound database instead of the embedded one
+  --phrases DIR      add the phrases of a folder (*.toml with a [phrase] table) to the
+                     factory phrases; MIDI notes from 60 (C4) play them (README: performing)
   --write-frames FILE  also record the render's sound frames as a log for --frames (its
                      header comment gives the --set options that replay it)
   --write-midi FILE  write the inputs as a MIDI performance (README map: grabs as notes,
@@ -177,6 +184,8 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
     let mut obj_dir = defaults.obj_dir;
     let mut obj_fps = defaults.obj_fps;
     let mut db = defaults.db;
+    let mut phrases = defaults.phrases;
+    let mut list_phrases = false;
     let mut write_frames = defaults.write_frames;
     let mut quiet = defaults.quiet;
     let mut realtime = defaults.realtime;
@@ -204,6 +213,8 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
         match flag {
             "-h" | "--help" => return Ok(Cli::Help),
             "--list-scenes" => return Ok(Cli::ListScenes),
+            "--list-phrases" => list_phrases = true,
+            "--phrases" => phrases = Some(PathBuf::from(value("--phrases")?)),
             "--midi" => inputs.push(InputSpec::Midi(value("--midi")?.into())),
             "--script" => inputs.push(InputSpec::Script(value("--script")?.into())),
             "--scene" => inputs.push(InputSpec::Scene(value("--scene")?)),
@@ -269,6 +280,9 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
             other => return Err(format!("unknown option {other:?} (see --help)")),
         }
         i += 1;
+    }
+    if list_phrases {
+        return Ok(Cli::ListPhrases(phrases));
     }
     if let Some(file) = batch_file {
         if !inputs.is_empty() || out.is_some() || write_midi.is_some() || realtime {
@@ -343,6 +357,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
         obj_dir,
         obj_fps,
         db,
+        phrases,
         write_frames,
         quiet,
         realtime,

@@ -28,6 +28,8 @@ use crate::engine::{
     Engine, FrameClock, Meters, ParamValues, SheetStore, SimMode, ViewShared, mix_levels,
     permit_always, scene, sim_config, sync_fresh_sim,
 };
+use crate::gesture_map::MidiInput;
+use crate::phrase::player::SLOWEST_SPEED;
 use crate::render::Renderer;
 
 /// The sound database: the embedded default, or a user database from `--db` (loaded, checked
@@ -139,7 +141,25 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             .set_from_arg(s)
             .map_err(|e| OfflineError::Usage(format!("--set {s}: {e}")))?;
     }
-    let length_s = log_scan.map_or(tl.length_s, |l| l.last_time_s);
+    // The phrases the MIDI notes play; the render lasts until the last one struck has played
+    // (at the slowest velocity).
+    let bank = Arc::new(super::phrase_bank(opts.phrases.as_deref()));
+    for e in &bank.errors {
+        if !opts.quiet {
+            eprintln!("papier-render: warning: {e}");
+        }
+    }
+    let mut length_s = log_scan.map_or(tl.length_s, |l| l.last_time_s);
+    if log_scan.is_none() {
+        for (at, e) in &tl.events {
+            if let HostEvent::Midi(MidiInput::NoteOn { key, .. }) = e
+                && let Some(p) = bank.get(*key)
+            {
+                length_s =
+                    length_s.max(*at as f64 / sr + p.duration_s / f64::from(SLOWEST_SPEED) + 1.0);
+            }
+        }
+    }
     if !(length_s.is_finite() && length_s > 0.0 && length_s <= MAX_RENDER_S) {
         let what = match (log_in, log_scan) {
             (Some(p), Some(l)) => format!(
@@ -219,6 +239,7 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
         permit_always,
     )
     .map_err(|e| OfflineError::Engine(e.to_string()))?;
+    engine.swap_phrases(bank);
     // The render path's seed is fixed when the engine is built (a later seed change reseeds the
     // sheet only); the log header records it with the other sound settings at t = 0.
     let sound_seed = params.seed;
