@@ -7,7 +7,8 @@
 //! │                                            │ Gestures         │
 //! │   3D view of the sheet (sheet_view):       │  XY pad  grab pad │
 //! │   region colours, handles, table, wall,    │  11 gesture knobs │
-//! │   listener; drag = orbit, scroll = zoom    │ Sheet · Room ·    │
+//! │   listener; drag = orbit, scroll = zoom    │ Phrases (pad)     │
+//! │                                            │ Sheet · Room ·    │
 //! │                                            │ Listener · Mix ·  │
 //! │                                            │ Sound database    │
 //! ├────────────────────────────────────────────┴──────────────────┤
@@ -20,6 +21,8 @@
 //! | the 3D view | [`sheet_view`] ([`projection`], [`shading`], [`region`], [`room_scene`], [`room_map`], [`vec3`]) |
 //! | XY pad (slide × lift) | [`xy_pad`] |
 //! | grab pad, Reset, Let go | [`grab_pad`] |
+//! | phrase pad (takes from notes C4 up), Reload | [`phrase_pad`] |
+//! | preset menus (paper, room, mix), Save | [`preset_menu`] |
 //! | parameter rows | [`param_widgets`] |
 //! | meters | [`meters_panel`] ([`ballistics`]) |
 //! | sound database folder | [`db_picker`] |
@@ -76,6 +79,8 @@ pub mod layout_probe;
 pub mod meters_panel;
 pub mod palette;
 pub mod param_widgets;
+pub mod phrase_pad;
+pub mod preset_menu;
 pub mod projection;
 pub mod region;
 pub mod room_map;
@@ -103,6 +108,8 @@ use self::grab_pad::{GrabPad, GrabTarget, zones};
 use self::layout_probe::LayoutProbe;
 use self::meters_panel::MetersPanel;
 use self::param_widgets::{choice_row, slider_row, toggle_row};
+use self::phrase_pad::PhrasePad;
+use self::preset_menu::PresetMenu;
 use self::sheet_view::SheetView;
 use self::shell::Session;
 use self::window_size::MIN_SIZE;
@@ -112,6 +119,7 @@ use crate::db_loader::DbState;
 use crate::engine::{Meters, ViewShared};
 use crate::gesture_map::MidiInput;
 use crate::params::PapierParams;
+use crate::phrase::PhraseShelf;
 
 pub use self::shell::EditorShell;
 
@@ -132,6 +140,8 @@ pub struct EditorParts {
     pub view: Arc<ViewShared>,
     /// The instance's window threads still running ([`window_threads`]).
     pub window_threads: Arc<WindowThreads>,
+    /// The phrase bank (read; Reload builds a new one off the audio thread).
+    pub phrases: Arc<PhraseShelf>,
 }
 
 /// Builds the editor.
@@ -140,12 +150,14 @@ pub fn create(
     meters: Arc<Meters>,
     view: Arc<ViewShared>,
     window_threads: Arc<WindowThreads>,
+    phrases: Arc<PhraseShelf>,
 ) -> Option<EditorShell> {
     Some(EditorShell::new(EditorParts {
         params,
         meters,
         view,
         window_threads,
+        phrases,
     }))
 }
 
@@ -157,6 +169,8 @@ pub struct PapierEditor {
     grab_pad: GrabPad,
     meters_panel: MetersPanel,
     db_picker: DbPicker,
+    phrase_pad: PhrasePad,
+    preset_menu: PresetMenu,
     probe: LayoutProbe,
     /// Gesture messages lost because the GUI → audio queue was full.
     messages_lost: u64,
@@ -171,6 +185,8 @@ impl PapierEditor {
             grab_pad: GrabPad::default(),
             meters_panel: MetersPanel::default(),
             db_picker: DbPicker::default(),
+            phrase_pad: PhrasePad::default(),
+            preset_menu: PresetMenu::default(),
             probe: LayoutProbe::default(),
             messages_lost: 0,
         }
@@ -279,6 +295,19 @@ impl PapierEditor {
             .auto_shrink([false, false])
             .show(ui, |ui| {
                 self.gestures(ui, setter, sink);
+                let (shelf, meters) = (self.parts.phrases.clone(), self.parts.meters.clone());
+                egui::CollapsingHeader::new(RichText::new("Phrases").strong())
+                    .id_salt("phrases_header")
+                    .default_open(true)
+                    .show(ui, |ui| {
+                        if let Some(r) = self.phrase_pad.show(ui, &shelf, &meters, sink) {
+                            self.probe.record("phrase_first", r);
+                        }
+                    });
+                egui::CollapsingHeader::new(RichText::new("Presets").strong())
+                    .id_salt("presets_header")
+                    .default_open(true)
+                    .show(ui, |ui| self.preset_menu.show(ui, &p, setter));
                 Self::section(ui, "Sheet", "sheet", |ui| {
                     choice_row(ui, &p.sheet.size, setter);
                     choice_row(ui, &p.sheet.material, setter);

@@ -449,6 +449,7 @@ impl Engine {
                 if key == NOTE_RESET || key == NOTE_RELEASE_ALL {
                     self.phrases.stop_all();
                 } else if self.phrases.note_on(at, key, velocity, self.last.seed) {
+                    self.meters.phrase_hits.fetch_add(1, Ordering::Relaxed);
                     return;
                 }
             }
@@ -585,6 +586,10 @@ impl Engine {
             peak = peak.max(s.abs());
         }
         self.meters.record_peak(peak);
+        let playing = self.phrases.notes_playing();
+        for (word, bits) in self.meters.phrase_notes.iter().zip(playing) {
+            word.store(bits, Ordering::Relaxed);
+        }
         self.clock += n as u64;
         if let Host::Threaded(t) = &self.host {
             // The worker polls this clock; no syscall (unpark) from the audio thread.

@@ -11,6 +11,7 @@
 //! - [`gesture_map`]: MIDI → gesture commands (shared with `papier-render`);
 //! - [`engine`]: parameter diffing, the simulation thread / lockstep stepping, the render call;
 //! - [`phrase`]: gesture scripts played from MIDI notes (C4 up);
+//! - [`preset`]: paper, room and mix presets (factory and user files);
 //! - [`render`]: the audio render path (no nice-plug types);
 //! - [`state`]: the sheet saved with the project (the persistence adapter);
 //! - [`state_check`]: a saved state's version and parameters checked before they load;
@@ -25,6 +26,7 @@ pub mod gesture_map;
 pub mod offline;
 pub mod params;
 pub mod phrase;
+pub mod preset;
 pub mod render;
 pub mod state;
 pub mod state_check;
@@ -40,6 +42,7 @@ use crate::editor::window_threads::WindowThreads;
 use crate::engine::{Engine, Meters, ParamValues, SimMode, ViewShared, sim_config};
 use crate::gesture_map::MidiInput;
 use crate::params::PapierParams;
+use crate::phrase::PhraseShelf;
 
 /// Converts a nice-plug note event into the engine's MIDI input; `None` for events Papier does
 /// not use.
@@ -86,6 +89,8 @@ pub struct Papier {
     db_key: Option<(u64, Option<std::path::PathBuf>)>,
     /// Sample rate of the running engine, Hz.
     sample_rate_hz: f64,
+    /// The phrases the notes from C4 play.
+    phrases: Arc<PhraseShelf>,
 }
 
 impl Default for Papier {
@@ -100,6 +105,7 @@ impl Default for Papier {
             db: Arc::new(SoundDb::empty()),
             db_key: None,
             sample_rate_hz: 48_000.0,
+            phrases: Arc::new(PhraseShelf::new(phrase::shelf::user_phrase_dir())),
         }
     }
 }
@@ -176,6 +182,7 @@ impl Plugin for Papier {
             self.meters.clone(),
             self.view.clone(),
             self.window_threads.clone(),
+            self.phrases.clone(),
         )
     }
 
@@ -225,6 +232,10 @@ impl Plugin for Papier {
         ) {
             Ok(mut engine) => {
                 engine.start_sound_at(&values);
+                // The phrases as the folder holds them now (the editor's Reload does it live).
+                self.phrases.reload_if_changed();
+                while self.phrases.ready.pop().is_some() {}
+                engine.swap_phrases(self.phrases.current());
                 self.engine = Some(engine);
                 self.sample_rate_hz = rate;
                 true
@@ -245,6 +256,7 @@ impl Plugin for Papier {
     fn deactivate(&mut self) {
         self.stop_engine();
         self.params.db.drain_retired();
+        self.phrases.drain_retired();
     }
 
     fn process(
@@ -270,6 +282,14 @@ impl Plugin for Papier {
             let old = engine.swap_db(new_db.clone());
             let _ = loader.retired.push(old);
             self.db = new_db;
+        }
+        // A phrase bank reloaded by the editor, the same way.
+        let shelf = &self.phrases;
+        if !shelf.retired.is_full()
+            && let Some(bank) = shelf.ready.pop()
+        {
+            let old = engine.swap_phrases(bank);
+            let _ = shelf.retired.push(old);
         }
         engine.begin_block(&self.params.values());
         while let Some(input) = self.view.gui_midi.pop() {

@@ -142,7 +142,7 @@ pub fn main_with_args(args: &[String]) -> i32 {
                 say!(
                     "{:>3}  {:<4} {:<28} {:>5.1} s  {start}  ({})",
                     p.note,
-                    note_name(p.note),
+                    crate::phrase::note_name(p.note),
                     p.name,
                     p.duration_s,
                     p.source

@@ -59,13 +59,20 @@ fn engine(mode: SimMode, sample_rate: f64) -> Engine {
         // What the plugin hands the engine: the allocation checker's permit.
         |f| nice_assert_no_alloc::permit_alloc(f),
     )
+    .map(|mut e| {
+        // The factory phrases, so that the notes from 60 play them (swapped in off the count).
+        e.swap_phrases(Arc::new(papier::phrase::PhraseBank::factory()));
+        e
+    })
     .expect("engine")
 }
 
-/// Every MIDI message the map knows, plus unmapped ones.
+/// Every MIDI message the map knows, plus unmapped ones, plus every factory phrase's note.
 fn all_midi() -> Vec<MidiInput> {
     let mut v = Vec::new();
-    for key in [36u8, 48, 50, 52, 53, 55, 59, 60] {
+    for key in [
+        36u8, 48, 50, 52, 53, 55, 59, 60, 61, 62, 63, 64, 65, 70, 75, 81, 90,
+    ] {
         v.push(MidiInput::NoteOn { key, velocity: 0.7 });
         v.push(MidiInput::NoteOff { key });
     }

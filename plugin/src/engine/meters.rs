@@ -42,6 +42,10 @@ pub struct Meters {
     pub peak_bits: AtomicU32,
     /// Largest output peak since the editor last took it (f32 bits; see [`Meters::record_peak`]).
     pub peak_hold_bits: AtomicU32,
+    /// Phrases started from notes.
+    pub phrase_hits: AtomicU64,
+    /// Notes whose phrase is playing: bit `n` of word `n / 64`.
+    pub phrase_notes: [AtomicU64; 2],
     /// Is the worker thread running?
     pub worker_running: AtomicBool,
     /// Worker threads started since the plugin was created.
@@ -63,6 +67,12 @@ impl Meters {
         self.num_singular.store(num_singular, Ordering::Relaxed);
         self.c_mean_pct_bits
             .store(c_mean_pct.to_bits(), Ordering::Relaxed);
+    }
+
+    /// Is the phrase on `note` playing?
+    pub fn phrase_playing(&self, note: u8) -> bool {
+        let n = usize::from(note.min(127));
+        self.phrase_notes[n / 64].load(Ordering::Relaxed) & (1 << (n % 64)) != 0
     }
 
     /// Mean edge compression of the current sheet, %.

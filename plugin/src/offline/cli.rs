@@ -2,8 +2,8 @@
 //!
 //! ```text
 //! papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
-//!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
-//!               [--obj-dir DIR] [--obj-fps N] [--db DIR] [--phrases DIR] [--write-frames FILE.jsonl]
+//!               [--sample-rate HZ] [--block N] [--seed N] [--preset NAME|FILE]...
+//!               [--set ID=VALUE]... [--obj-dir DIR] [--obj-fps N] [--db DIR] [--phrases DIR] [--write-frames FILE.jsonl]
 //!               [--quiet] [--realtime]
 //! papier-render --frames FILE.jsonl --out FILE.wav
 //!               [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
@@ -11,7 +11,7 @@
 //! ```
 //! Every input plays on one shared timeline from t = 0 (like tracks of a DAW); the render
 //! lasts as long as the longest input. Values given with `--seed` and `--set` are applied at
-//! t = 0 after the scripts' `[set]` tables, so the command line wins.
+//! t = 0 after the scripts' `[set]` tables and the `--preset`s, so the command line wins.
 //!
 //! `--frames` plays a recorded log of sound frames ([`super::frame_log`]) through the
 //! render path without simulating a sheet ([`super::frame_replay`]); it is an input of its own
@@ -66,6 +66,8 @@ pub struct RenderOptions {
     pub db: Option<PathBuf>,
     /// Folder of the user's phrases (added to the factory phrases).
     pub phrases: Option<PathBuf>,
+    /// Presets (names or files), applied at t = 0 in order, before `--seed` and `--set`.
+    pub presets: Vec<String>,
     /// Where to record the sound frames of the render (JSON lines), if anywhere.
     pub write_frames: Option<PathBuf>,
     /// Print only errors.
@@ -90,6 +92,7 @@ impl RenderOptions {
             obj_fps: 30.0,
             db: None,
             phrases: None,
+            presets: Vec::new(),
             write_frames: None,
             quiet: false,
             realtime: false,
@@ -133,8 +136,8 @@ pub enum Cli {
 /// The usage text.
 pub const USAGE: &str =
     "usage: papier-render (--midi FILE.mid | --script FILE.toml | --scene NAME)... --out FILE.wav
-                     [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]...
-                     [--obj-dir DIR] [--obj-fps N] [--db DIR] [--phrases DIR]
+                     [--sample-rate HZ] [--block N] [--seed N] [--preset NAME|FILE]...
+                     [--set ID=VALUE]... [--obj-dir DIR] [--obj-fps N] [--db DIR] [--phrases DIR]
                      [--write-frames FILE.jsonl] [--quiet] [--realtime]
        papier-render --frames FILE.jsonl --out FILE.wav
                      [--sample-rate HZ] [--block N] [--seed N] [--set ID=VALUE]... [--db DIR] [--quiet]
@@ -152,6 +155,8 @@ Renders Papier offline (the plugin's engine, stepped in lockstep with the audio)
   --sample-rate HZ   8000-192000 (default 48000)
   --block N          host block size to emulate, 1-16384 (default 512)
   --seed N           seed of the sheet and of the sound (parameter `seed`)
+  --preset NAME      apply a paper, room or mix preset at t = 0 (a factory preset's name,
+                     a user preset's, or a preset .toml file; README: presets)
   --set ID=VALUE     set a parameter at t = 0, e.g. --set size=a6 (ids: README)
   --obj-dir DIR      write the sheet as frame_00000.obj, ... (v: metres, vt: pattern metres)
   --obj-fps N        OBJ frames per second (default 30)
@@ -185,6 +190,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
     let mut obj_fps = defaults.obj_fps;
     let mut db = defaults.db;
     let mut phrases = defaults.phrases;
+    let mut presets = defaults.presets;
     let mut list_phrases = false;
     let mut write_frames = defaults.write_frames;
     let mut quiet = defaults.quiet;
@@ -215,6 +221,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
             "--list-scenes" => return Ok(Cli::ListScenes),
             "--list-phrases" => list_phrases = true,
             "--phrases" => phrases = Some(PathBuf::from(value("--phrases")?)),
+            "--preset" => presets.push(value("--preset")?),
             "--midi" => inputs.push(InputSpec::Midi(value("--midi")?.into())),
             "--script" => inputs.push(InputSpec::Script(value("--script")?.into())),
             "--scene" => inputs.push(InputSpec::Scene(value("--scene")?)),
@@ -358,6 +365,7 @@ pub fn parse(args: &[String]) -> Result<Cli, String> {
         obj_fps,
         db,
         phrases,
+        presets,
         write_frames,
         quiet,
         realtime,

@@ -133,6 +133,11 @@ pub fn render(opts: &RenderOptions) -> Result<RenderReport, OfflineError> {
             .set(id, v)
             .map_err(|e| OfflineError::Input(e.to_string()))?;
     }
+    for name in &opts.presets {
+        crate::preset::find(name)
+            .and_then(|p| p.apply_to(&mut params))
+            .map_err(|e| OfflineError::Usage(e.0))?;
+    }
     if let Some(seed) = opts.seed {
         params.seed = seed;
     }

@@ -150,7 +150,9 @@ impl PhraseBank {
         let mut list = Vec::with_capacity(FACTORY.len() + SCENES.len());
         for (file, text) in FACTORY {
             let name = file.trim_end_matches(".toml");
-            list.push(Phrase::parse(text, file, name).expect("factory phrases parse"));
+            let mut p = Phrase::parse(text, file, name).expect("factory phrases parse");
+            p.source = format!("factory ({file})");
+            list.push(p);
         }
         for (i, (name, text)) in SCENES.into_iter().enumerate() {
             let script = Script::parse(text).expect("seed scenes parse");

@@ -159,6 +159,16 @@ impl PhrasePlayer {
         self.hits
     }
 
+    /// The notes whose phrase is playing: bit `n` of word `n / 64`.
+    pub fn notes_playing(&self) -> [u64; 2] {
+        let mut bits = [0u64; 2];
+        for v in self.voices.iter().flatten() {
+            let n = usize::from(v.note.min(127));
+            bits[n / 64] |= 1 << (n % 64);
+        }
+        bits
+    }
+
     /// A note-on at sample `at`: starts the note's phrase, if any. True if one started.
     pub fn note_on(&mut self, at: u64, note: u8, velocity: f32, instance_seed: u64) -> bool {
         let Some(index) = self.bank.index_of(note) else {
