@@ -235,7 +235,11 @@ impl Plugin for Papier {
                 // The phrases as the folder holds them now (the editor's Reload does it live).
                 self.phrases.reload_if_changed();
                 while self.phrases.ready.pop().is_some() {}
-                engine.swap_phrases(self.phrases.current());
+                let bank = self.phrases.current();
+                for e in &bank.errors {
+                    nice_warn!("phrase refused: {e}");
+                }
+                engine.swap_phrases(bank);
                 self.engine = Some(engine);
                 self.sample_rate_hz = rate;
                 true

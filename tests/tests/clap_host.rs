@@ -580,7 +580,7 @@ fn corrupt_state_is_rejected_and_the_plugin_keeps_its_values() {
 }
 
 /// The MIDI of the offline-equivalence renders: grab, lift, shake, twist, second grab, release,
-/// reset. Times are on the 1/960 s grid of the MIDI file writer, so both sides see the same
+/// reset, then a phrase (note 62, the quick tear: the render lasts until it has played). Times are on the 1/960 s grid of the MIDI file writer, so both sides see the same
 /// samples.
 fn equivalence_midi() -> Vec<(f64, MidiInput)> {
     vec![
@@ -625,6 +625,13 @@ fn equivalence_midi() -> Vec<(f64, MidiInput)> {
             MidiInput::NoteOn {
                 key: 36,
                 velocity: 1.0,
+            },
+        ),
+        (
+            2.75,
+            MidiInput::NoteOn {
+                key: 62,
+                velocity: 90.0 / 127.0,
             },
         ),
     ]

@@ -41,6 +41,8 @@ struct Take {
     /// Fastest vertex seen at a block end, m/s.
     max_speed_m_s: f64,
     phrases_playing_at_end: usize,
+    /// The sheet's crumple gesture at the end.
+    crumple_at_end: f32,
 }
 
 fn play(bank: &Arc<PhraseBank>, midi: &[Timed], length_s: f64, block: usize) -> Take {
@@ -94,7 +96,12 @@ fn play(bank: &Arc<PhraseBank>, midi: &[Timed], length_s: f64, block: usize) -> 
         }
         pos += n;
     }
+    let crumple_at_end = e
+        .lockstep_sim()
+        .expect("lockstep")
+        .gesture(sim_core::GestureParam::Crumple);
     Take {
+        crumple_at_end,
         mono,
         hash,
         crumple_events: meters.crumple_events.load(Ordering::Relaxed),
@@ -247,5 +254,31 @@ fn a_reset_or_cc_121_stops_a_phrase_and_a_user_phrase_replaces_a_factory_one() {
         "the user's crumple plays: {} events, the page turn {}",
         take.crumple_events,
         page_turn.crumple_events
+    );
+}
+
+#[test]
+fn a_phrase_and_a_cc_on_one_gesture_the_latest_change_wins() {
+    let dir = std::env::temp_dir().join(format!("papier-latest-wins-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A phrase holding the crumple at 0.5 while its key is down.
+    std::fs::write(
+        dir.join("hold.toml"),
+        "version = 1\nduration_s = 3.0\n[phrase]\nnote = 100\nnote_off = \"release\"\n\
+         [[lane]]\nid = \"crumple\"\ninterp = \"step\"\npoints = [[0.0, 0.5]]\n",
+    )
+    .unwrap();
+    let bank = Arc::new(PhraseBank::with_folder(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+    let cc_zero = |t: f64| (t, MidiInput::Cc { cc: 20, value: 0.0 });
+    // The CC after the phrase's value: the CC wins.
+    let later = play(&bank, &[note_on(0.1, 100, 100), cc_zero(1.0)], 1.5, 256);
+    assert_eq!(later.crumple_at_end, 0.0);
+    // The phrase after the CC: the phrase wins (0.5 within the hit's ±8 %).
+    let earlier = play(&bank, &[cc_zero(0.05), note_on(0.1, 100, 100)], 1.5, 256);
+    assert!(
+        (earlier.crumple_at_end - 0.5).abs() < 0.05,
+        "{}",
+        earlier.crumple_at_end
     );
 }

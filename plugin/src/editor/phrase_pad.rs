@@ -4,8 +4,8 @@
 //! while it plays. Pressing a button is striking its key (note-on at the pad's velocity),
 //! releasing it lets go of the key (note-off): the messages go through the GUI → audio queue
 //! like the grab pad's, so a phrase from the pad and one from a keyboard are the same thing.
-//! **Reload** reads the user's phrase folder again (off the audio thread); files it refused are
-//! listed, one line each.
+//! **Reload** reads the user's phrase folder again (off the audio thread; the open editor also
+//! does it by itself when the folder changes); files it refused are listed, one line each.
 
 use std::sync::Arc;
 
@@ -18,6 +18,9 @@ use crate::phrase::{PhraseShelf, note_name};
 /// Default velocity of the pad (MIDI 100: a phrase as written).
 pub const DEFAULT_VELOCITY: f32 = 100.0 / 127.0;
 
+/// How often the open editor looks at the phrase folder, seconds.
+const FOLDER_CHECK_S: f64 = 1.0;
+
 /// Buttons per row.
 const COLUMNS: usize = 2;
 
@@ -26,6 +29,8 @@ const COLUMNS: usize = 2;
 pub struct PhrasePad {
     velocity: f32,
     held: Option<u8>,
+    /// When the folder was last looked at (editor time, s).
+    checked_s: f64,
 }
 
 impl Default for PhrasePad {
@@ -33,6 +38,7 @@ impl Default for PhrasePad {
         Self {
             velocity: DEFAULT_VELOCITY,
             held: None,
+            checked_s: f64::NEG_INFINITY,
         }
     }
 }
@@ -46,6 +52,12 @@ impl PhrasePad {
         meters: &Meters,
         sink: &mut impl FnMut(MidiInput),
     ) -> Option<egui::Rect> {
+        // While the window is open, a changed folder is read again (once a second at most).
+        let now_s = ui.input(|i| i.time);
+        if now_s - self.checked_s >= FOLDER_CHECK_S {
+            self.checked_s = now_s;
+            shelf.reload_if_changed();
+        }
         let bank = shelf.current();
         ui.horizontal(|ui| {
             ui.label("Velocity");
