@@ -3,7 +3,8 @@
 //! shows the sheet and that text was drawn, then plays a gesture through the editor's own
 //! controls with `xdotool` (Hold on, grab the front edge, drag the XY pad up and right), and
 //! checks that the sheet on screen changed accordingly: it moved, parts of it are now curved,
-//! and the held vertices are marked.
+//! and the held vertices are marked. Then it holds the phrase pad's first button (the page turn)
+//! and checks that the phrase plays: the sheet on screen changes again, with held vertices.
 //!
 //! The standalone receives no MIDI and its dummy backend runs `process()` at real-time pace,
 //! so this is the whole path: editor → GUI queue / host parameters → audio thread → simulation
@@ -361,6 +362,40 @@ fn editor_shows_the_sheet_and_follows_a_gesture_played_on_its_controls() {
     assert!(curved > 200, "curved-region pixels after lifting: {curved}");
     assert!(held > 20, "held-vertex dots: {held} pixels");
     assert!(scene.count(&after, is_sheet) >= MIN_SHEET_PX / 2);
+
+    // 5. The phrase pad: its first button (C4, the page turn) held down plays the phrase — a
+    //    fresh sheet whose right edge is taken and lifted over: the sheet on screen changes
+    //    again, with held vertices, and the meters count the hit.
+    let phrase = one(&layout, "phrase_first");
+    assert!(
+        phrase.y1 < i64::from(window.height) - 40 && phrase.area() > 200,
+        "the phrase pad's first button is on screen: {phrase:?} in a {}x{} window",
+        window.width,
+        window.height
+    );
+    let lifted = scene.mask(&after, is_sheet);
+    pointer.move_to(phrase.centre());
+    pointer.xdotool(&["mousedown".into(), "1".into()]);
+    std::thread::sleep(Duration::from_millis(400));
+    pointer.xdotool(&["mouseup".into(), "1".into()]);
+    pointer.move_to((title.x1 + 150, title.centre().1));
+    let phrase_png = shots.join("editor-phrase.png");
+    let t0 = Instant::now();
+    let (moved, dots) = loop {
+        std::thread::sleep(Duration::from_millis(150));
+        let img = Image::capture(&x, Some(window.id), &phrase_png).expect("screenshot");
+        let mask = scene.mask(&img, is_sheet);
+        let moved = mask.iter().zip(&lifted).filter(|(a, b)| a != b).count();
+        let dots = scene.count(&img, is_handle_dot);
+        if (moved > sheet_px / 5 && dots > 20) || t0.elapsed() > PATIENCE {
+            break (moved, dots);
+        }
+    };
+    assert!(
+        moved > sheet_px / 5 && dots > 20,
+        "after the phrase pad: the sheet changed by {moved} pixels, held dots {dots}; see {}",
+        phrase_png.display()
+    );
     eprintln!(
         "editor screenshot: {}x{} window, sheet {sheet_px} px, changed {changed} px, curved \
          {curved} px, held dots {held} px, title ink {title_ink} px; {:.1} s; {}",

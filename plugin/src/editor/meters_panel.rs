@@ -170,10 +170,16 @@ impl MetersPanel {
                 ui.end_row();
 
                 ui.label("Sheet");
+                let playing: u32 = meters
+                    .phrase_notes
+                    .iter()
+                    .map(|w| w.load(Ordering::Relaxed).count_ones())
+                    .sum();
+                let hits = meters.phrase_hits.load(Ordering::Relaxed);
                 ui.monospace(format!(
-                    "singular vertices {singular:3}   c_mean {c_mean:5.2} %"
+                    "singular vertices {singular:3}   c_mean {c_mean:5.2} %   phrases {playing} ({hits} hits)"
                 ))
-                .on_hover_text("Persistent singular vertices (d-cone apexes) and the mean edge compression against the flat pattern");
+                .on_hover_text("Persistent singular vertices (d-cone apexes), the mean edge compression against the flat pattern, the phrases playing now and the phrase notes struck so far");
                 ui.label("");
                 ui.label("Engine");
                 let running = meters.worker_running.load(Ordering::Relaxed);
