@@ -412,6 +412,22 @@ impl NiceEguiApp for PapierEditor {
                     values.listener_dist_m,
                 );
                 self.probe.record("view", r.rect);
+                // The phrases playing, named at the top of the view.
+                let bank = self.parts.phrases.current();
+                let playing: Vec<String> = bank
+                    .by_note()
+                    .filter(|ph| self.parts.meters.phrase_playing(ph.note))
+                    .map(|ph| format!("{} {}", crate::phrase::note_name(ph.note), ph.name))
+                    .collect();
+                if !playing.is_empty() {
+                    ui.painter().text(
+                        r.rect.center_top() + vec2(0.0, 12.0),
+                        egui::Align2::CENTER_TOP,
+                        format!("playing: {}", playing.join(" · ")),
+                        egui::FontId::proportional(15.0),
+                        Color32::from_rgb(150, 220, 150),
+                    );
+                }
                 let overlays = self.sheet_view.overlays();
                 self.probe.record("view_legend", overlays.legend);
                 self.probe.record("view_map", overlays.map);
