@@ -66,6 +66,15 @@ pub mod user_db;
 pub mod voice_bus;
 pub mod voice_pool;
 
+/// Helpers for the render path's unit tests.
+#[cfg(test)]
+pub(crate) mod test_support {
+    /// RMS of a signal.
+    pub fn rms(x: &[f32]) -> f64 {
+        (x.iter().map(|v| f64::from(*v).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
+    }
+}
+
 use std::sync::Arc;
 
 use sim_core::RoomConfig;

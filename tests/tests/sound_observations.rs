@@ -17,33 +17,15 @@
 
 mod render_common;
 
-use render_common::{anechoic, printer_db, render, renderer};
+use render_common::{anechoic, play_script as play, printer_db, render, renderer};
 
 use papier::render::{RenderOptions, Scene};
 use sim_core::script::Script;
-use sim_core::script_runner::ScriptRunner;
-use sim_core::sim::{FrameOutput, SimConfig};
 use sim_core::sound_input::{CrumpleEvent, FrictionSource, SoundFrame};
-use sim_core::{Command, RoomConfig, SheetSize, scenario};
+use sim_core::{RoomConfig, SheetSize, scenario};
 
 const RATE: f64 = 48_000.0;
 const FRAME_RATE: f64 = sim_core::sim::DEFAULT_FRAME_RATE_HZ;
-
-/// Plays a script on a fresh sheet (optionally resized first) and records every frame.
-fn play(script: &Script, size: Option<SheetSize>) -> Vec<SoundFrame> {
-    let base = SimConfig::default();
-    let mut runner = ScriptRunner::new(script, FRAME_RATE, base.room).unwrap();
-    let mut sim = runner.start(base);
-    if let Some(s) = size {
-        sim.apply(Command::Size(s));
-    }
-    let mut out = FrameOutput::default();
-    let mut frames = Vec::new();
-    while runner.drive(&mut sim, &mut out) {
-        frames.push(out.sound);
-    }
-    frames
-}
 
 fn scene(name: &str) -> Script {
     scenario::get(name).unwrap()

@@ -9,29 +9,18 @@
 
 mod render_common;
 
-use render_common::{printer_db, render, renderer, rms};
+use render_common::{play_script, printer_db, render, renderer, rms};
 
 use papier::render::Scene;
 use sim_core::script::Script;
-use sim_core::script_runner::ScriptRunner;
-use sim_core::sim::{FrameOutput, SimConfig};
 use sim_core::sound_input::SoundFrame;
 
 const RATE: f64 = 48_000.0;
 const FRAME_RATE: f64 = sim_core::sim::DEFAULT_FRAME_RATE_HZ;
 
-/// Plays a script and records every frame's sound input.
+/// Plays script text and records every frame's sound input.
 fn play(text: &str) -> Vec<SoundFrame> {
-    let script = Script::parse(text).unwrap();
-    let base = SimConfig::default();
-    let mut runner = ScriptRunner::new(&script, FRAME_RATE, base.room).unwrap();
-    let mut sim = runner.start(base);
-    let mut out = FrameOutput::default();
-    let mut frames = Vec::new();
-    while runner.drive(&mut sim, &mut out) {
-        frames.push(out.sound);
-    }
-    frames
+    play_script(&Script::parse(text).unwrap(), None)
 }
 
 /// Renders recorded frames in lockstep (events triggered at their frame), both channels summed;

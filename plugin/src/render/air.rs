@@ -223,10 +223,7 @@ impl AirNoise {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn rms(x: &[f32]) -> f64 {
-        (x.iter().map(|v| f64::from(*v).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
-    }
+    use crate::render::test_support::rms;
 
     #[test]
     fn the_level_follows_the_strength_at_every_rate() {

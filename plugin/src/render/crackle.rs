@@ -100,10 +100,7 @@ impl Crackle {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn rms(x: &[f32]) -> f64 {
-        (x.iter().map(|v| f64::from(*v).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
-    }
+    use crate::render::test_support::rms;
 
     #[test]
     fn silent_below_the_threshold_and_louder_with_the_rate() {

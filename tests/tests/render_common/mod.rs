@@ -6,8 +6,11 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use papier::render::{MixLevels, Renderer, Scene};
-use sim_core::RoomConfig;
+use sim_core::script::Script;
+use sim_core::script_runner::ScriptRunner;
+use sim_core::sim::{DEFAULT_FRAME_RATE_HZ, FrameOutput, SimConfig};
 use sim_core::sound_input::{CrumpleEvent, FrictionSource, Obstacle, Resonator, SoundFrame};
+use sim_core::{Command, RoomConfig, SheetSize};
 use sounddb::SoundDb;
 
 /// The embedded printer database prepared for a rate, cached per test binary.
@@ -238,4 +241,21 @@ pub fn assert_same(a: &(Vec<f32>, Vec<f32>), b: &(Vec<f32>, Vec<f32>)) {
             );
         }
     }
+}
+
+/// Plays a script on a fresh sheet (optionally resized first) at the default frame rate and
+/// records every frame's sound input.
+pub fn play_script(script: &Script, size: Option<SheetSize>) -> Vec<SoundFrame> {
+    let base = SimConfig::default();
+    let mut runner = ScriptRunner::new(script, DEFAULT_FRAME_RATE_HZ, base.room).unwrap();
+    let mut sim = runner.start(base);
+    if let Some(s) = size {
+        sim.apply(Command::Size(s));
+    }
+    let mut out = FrameOutput::default();
+    let mut frames = Vec::new();
+    while runner.drive(&mut sim, &mut out) {
+        frames.push(out.sound);
+    }
+    frames
 }
