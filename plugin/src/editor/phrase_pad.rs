@@ -77,7 +77,7 @@ impl PhrasePad {
         });
         let mut first = None;
         let mut down_now = None;
-        let width = (ui.available_width() - 8.0) / COLUMNS as f32;
+        let width = ((ui.available_width() - 12.0) / COLUMNS as f32).max(60.0);
         egui::Grid::new("phrase_pad")
             .num_columns(COLUMNS)
             .spacing([4.0, 3.0])
@@ -85,20 +85,24 @@ impl PhrasePad {
                 for (i, p) in bank.by_note().enumerate() {
                     let playing = meters.phrase_playing(p.note);
                     let text = RichText::new(format!("{:<4} {}", note_name(p.note), p.name));
-                    let mut button = egui::Button::new(text).min_size(vec2(width, 0.0));
+                    // A fixed width, long names cut short (the hover text has them whole).
+                    let mut button = egui::Button::new(text).truncate();
                     if playing {
                         button = button.fill(Color32::from_rgb(70, 110, 70));
                     }
-                    let r = ui.add(button).on_hover_text(format!(
-                        "note {} · {:.1} s · {} · {}",
-                        p.note,
-                        p.duration_s,
-                        match p.start {
-                            crate::phrase::PhraseStart::Fresh => "fresh sheet",
-                            crate::phrase::PhraseStart::Current => "current sheet",
-                        },
-                        p.source
-                    ));
+                    let r = ui
+                        .add_sized(vec2(width, 20.0), button)
+                        .on_hover_text(format!(
+                            "{} · note {} · {:.1} s · {} · {}",
+                            p.name,
+                            p.note,
+                            p.duration_s,
+                            match p.start {
+                                crate::phrase::PhraseStart::Fresh => "fresh sheet",
+                                crate::phrase::PhraseStart::Current => "current sheet",
+                            },
+                            p.source
+                        ));
                     first.get_or_insert(r.rect);
                     if r.is_pointer_button_down_on() {
                         down_now = Some(p.note);
