@@ -19,9 +19,11 @@ def check(ok, what):
         sys.exit(1)
 
 
-# An instrument is silent until it is played: pedalboard's default initialization_timeout
-# (10 s) waits that long for non-silent output on every load and render call. Papier needs no
-# warm-up render, so the wait is 0.1 s.
+# pedalboard warms an instrument up on every load and render call: it strikes middle C and waits
+# for louder output, up to initialization_timeout (10 s by default). Papier's C4 is a phrase (the
+# page turn, heard within 40 ms), so the default no longer waits; the test keeps a short bound
+# so that a silent C4 would not make every call 10 s long (tests/vst3/pedalboard_timing.py times
+# the default path).
 INIT_TIMEOUT_S = 0.1
 
 names = VST3Plugin.get_plugin_names_for_file(path)
