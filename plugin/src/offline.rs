@@ -96,18 +96,6 @@ pub fn phrase_bank(dir: Option<&std::path::Path>) -> crate::phrase::PhraseBank {
     }
 }
 
-/// A note's name, C4 = 60.
-pub fn note_name(note: u8) -> String {
-    const NAMES: [&str; 12] = [
-        "C", "C#", "D", "D#", "E", "F", "F#", "G", "G#", "A", "A#", "B",
-    ];
-    format!(
-        "{}{}",
-        NAMES[usize::from(note % 12)],
-        i32::from(note / 12) - 1
-    )
-}
-
 /// `papier-render`'s entry point: parses the arguments (without the program name), renders,
 /// prints the report, and returns the exit code.
 pub fn main_with_args(args: &[String]) -> i32 {

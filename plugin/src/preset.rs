@@ -418,15 +418,7 @@ pub fn load_folder(dir: &Path) -> (Vec<Preset>, Vec<String>) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return (presets, errors);
     };
-    let mut files: Vec<PathBuf> = entries
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| {
-            p.extension()
-                .is_some_and(|x| x.eq_ignore_ascii_case("toml"))
-        })
-        .collect();
-    files.sort();
+    let files = crate::phrase::bank::toml_files(entries);
     for path in files {
         let shown = path.display().to_string();
         match std::fs::read_to_string(&path) {

@@ -108,6 +108,20 @@ const SCENES: [(&str, &str); 16] = [
     ),
 ];
 
+/// The `*.toml` files of a folder listing, sorted by path (shared with [`crate::preset`]).
+pub(crate) fn toml_files(entries: std::fs::ReadDir) -> Vec<std::path::PathBuf> {
+    let mut files: Vec<_> = entries
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| {
+            p.extension()
+                .is_some_and(|x| x.eq_ignore_ascii_case("toml"))
+        })
+        .collect();
+    files.sort();
+    files
+}
+
 /// Note of the first seed scene (F#4).
 pub const FIRST_SCENE_NOTE: u8 = 66;
 
@@ -185,15 +199,7 @@ impl PhraseBank {
                 return bank;
             }
         };
-        let mut files: Vec<_> = entries
-            .filter_map(Result::ok)
-            .map(|e| e.path())
-            .filter(|p| {
-                p.extension()
-                    .is_some_and(|x| x.eq_ignore_ascii_case("toml"))
-            })
-            .collect();
-        files.sort();
+        let files = toml_files(entries);
         for path in files {
             let shown = path.display().to_string();
             let name = path

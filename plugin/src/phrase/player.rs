@@ -247,8 +247,7 @@ impl PhrasePlayer {
             return;
         }
         let rate = frames.sample_rate_hz();
-        let bank = self.bank.clone();
-        let phrases = bank.phrases();
+        let phrases = self.bank.phrases();
         // The frame holding `from`.
         let mut k = (from as f64 / frames.samples_per_frame()).floor() as u64;
         while k > 0 && frames.start(k) > from {

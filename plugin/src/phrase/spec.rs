@@ -143,19 +143,12 @@ fn text<'a>(t: &'a toml::Table, key: &str) -> Result<Option<&'a str>, String> {
     }
 }
 
-/// The ids a phrase may not set: the room, the listener and the mix are the instance's.
-const INSTANCE_IDS: [&str; 10] = [
-    "table",
-    "table_height_cm",
-    "wall",
-    "wall_dist_cm",
-    "listener_az_deg",
-    "listener_dist_m",
-    "mix_crumple_db",
-    "mix_friction_db",
-    "mix_tear_db",
-    "gain_db",
-];
+/// Is `id` the instance's to set (the room, the listener and the mix: the preset groups of
+/// [`crate::preset`] a phrase does not touch)?
+fn is_instance_id(id: &str) -> bool {
+    use crate::preset::PresetKind;
+    PresetKind::Room.param_ids().contains(&id) || PresetKind::Mix.param_ids().contains(&id)
+}
 
 fn number(id: &str, v: &ScriptValue) -> Result<f64, String> {
     match v {
@@ -239,7 +232,7 @@ impl Phrase {
             source: source.to_string(),
         };
         for (id, v) in &script.set {
-            if INSTANCE_IDS.contains(&id.as_str()) {
+            if is_instance_id(id) {
                 if drop_instance_ids {
                     continue;
                 }
@@ -287,7 +280,7 @@ impl Phrase {
         let mut steps = Vec::new();
         for (i, lane) in script.lanes.iter().enumerate() {
             let what = format!("lane {} ({})", i + 1, lane.id);
-            if drop_instance_ids && INSTANCE_IDS.contains(&lane.id.as_str()) {
+            if drop_instance_ids && is_instance_id(&lane.id) {
                 continue;
             }
             if lane.id == "material" || lane.id == "size" {
