@@ -7,6 +7,8 @@
 //! - [`band_rms_spectrum`]: the database spectrum convention (RMS amplitude per bin of width
 //!   fs/(2·bins), see [`crate::manifest`]) from a signal;
 //! - [`third_octave_levels_db`]: power per 1/3-octave band (IEC centre frequencies, base-10);
+//! - [`octave_profile_db`]: power per octave (centres 125 Hz … 16 kHz) relative to the loudest
+//!   octave, the profile issue 52 compares with real crumple recordings;
 //! - [`centroid_hz`], [`flatness`]: spectral centroid and flatness (geometric / arithmetic mean of
 //!   the power);
 //! - [`log_band_histogram`] and [`qf_distance`]: the quadratic-form distance between unit-sum
@@ -122,6 +124,28 @@ pub fn third_octave_levels_db(psd: &[f64], df_hz: f64) -> Vec<f64> {
         .collect()
 }
 
+/// Octave centres of [`octave_profile_db`], Hz.
+pub const OCTAVE_CENTRES_HZ: [f64; 8] = [125.0, 250.0, 500.0, 1e3, 2e3, 4e3, 8e3, 16e3];
+
+/// Power per octave (band [c/√2, c·√2) around each of [`OCTAVE_CENTRES_HZ`]) of a power spectrum
+/// (bin k at k·df_hz), in dB relative to the loudest octave (0 for it; −300 for an empty one).
+pub fn octave_profile_db(power: &[f64], df_hz: f64) -> [f64; 8] {
+    let mut e = [0.0f64; 8];
+    for (k, p) in power.iter().enumerate() {
+        let f = k as f64 * df_hz;
+        for (o, c) in OCTAVE_CENTRES_HZ.iter().enumerate() {
+            if f >= c / std::f64::consts::SQRT_2 && f < c * std::f64::consts::SQRT_2 {
+                e[o] += p;
+            }
+        }
+    }
+    let loudest = e.iter().copied().fold(0.0, f64::max);
+    if loudest <= 0.0 {
+        return [-300.0; 8];
+    }
+    e.map(|v| 10.0 * (v / loudest).max(1e-30).log10())
+}
+
 /// Spectral centroid of a power spectrum (bin k at k·df_hz), Hz.
 pub fn centroid_hz(power: &[f64], df_hz: f64) -> f64 {
     let (mut num, mut den) = (0.0, 0.0);
@@ -218,6 +242,19 @@ pub fn lsd_db(p: &[f64], q: &[f64], df_hz: f64, lo_hz: f64, hi_hz: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn octave_profile_of_white_noise_rises_3_db_per_octave() {
+        // Flat power per Hz: each octave holds twice the previous one's power.
+        let df = 1.0;
+        let power = vec![1.0; 24_000];
+        let p = super::octave_profile_db(&power, df);
+        assert!(p[7].abs() < 1e-9, "{p:?}");
+        for o in 0..7 {
+            assert!((p[o + 1] - p[o] - 3.01).abs() < 0.05, "{p:?}");
+        }
+        assert_eq!(super::octave_profile_db(&[0.0; 10], df), [-300.0; 8]);
+    }
+
     use super::*;
 
     #[test]

@@ -26,14 +26,32 @@
 //!    1 m microphone we do not have; digest-sound §10.3 item 5).
 //!
 //! **Clac** (constrained; "sharp, dampened in a few milliseconds", T 1704): noise under an
-//! exponential decay of τ = 1–3 ms, high-passed at 300–800 Hz, plus 2–4 heavily damped modes at
-//! 3–8 kHz (T60 3–9 ms), 60–120 ms long, peak 0.3 × U(0.7, 1).
+//! exponential decay of τ = 1–3 ms, high-passed at 60–150 Hz and softened by a one-pole low-pass
+//! at 2–3.5 kHz, plus 2–4 heavily damped modes at 3–8 kHz (T60 3–9 ms), plus the snap's air
+//! pulse, 60–120 ms long, peak 0.3 × U(0.7, 1).
+//!
+//! *The air pulse* (beyond the seeds): a crease snapping through jerks the patch around it, and
+//! the air it pushes radiates a pressure pulse ∝ its volume acceleration — a first derivative of
+//! a Gaussian peaking at 140–240 Hz (a snap of a few milliseconds), its peak 0.14 × the click's.
+//! It is what gives a crumple its body: clacs carry most of a crumple's event energy (their
+//! amplitudes are far above the flaps'), and a white click has its 125 Hz octave 15 dB under its
+//! 4 kHz octave, where real crumple recordings have it 9–15 dB under the loudest (issue 52). The
+//! digest's 300–800 Hz high-pass and an unfiltered click made the seed crumples' 125–250 Hz
+//! octaves 16–23 dB under the loudest. Level and corners are a calibration against those
+//! recordings' octave profile (docs/decisions.md, "Sound realism: the crumple's body").
 
 use super::panel::Panel;
 use super::{FLAP_COMPRESSION, GenRng, MaterialParams};
 
 /// Number of explicit modes of a flap clip.
 pub const FLAP_MODES: usize = 48;
+
+/// Corner range of the one-pole low-pass that softens a clac's click, Hz.
+pub const CLAC_LOW_PASS_HZ: (f64, f64) = (2_000.0, 3_500.0);
+/// Peak frequency range of a clac's air pulse, Hz.
+pub const CLAC_PULSE_HZ: (f64, f64) = (140.0, 240.0);
+/// Peak of a clac's air pulse relative to its click.
+pub const CLAC_PULSE_REL: f64 = 0.14;
 
 /// One sub-burst of the excitation.
 struct Burst {
@@ -47,6 +65,17 @@ fn one_pole_hp_coeff(fc_hz: f64, rate: f64) -> f64 {
     let rc = 1.0 / (2.0 * std::f64::consts::PI * fc_hz);
     let dt = 1.0 / rate;
     rc / (rc + dt)
+}
+
+fn low_pass(x: &[f64], fc_hz: f64, rate: f64) -> Vec<f64> {
+    let a = 1.0 - (-2.0 * std::f64::consts::PI * fc_hz / rate).exp();
+    let mut y = 0.0;
+    x.iter()
+        .map(|&v| {
+            y += a * (v - y);
+            y
+        })
+        .collect()
 }
 
 fn high_pass(x: &[f64], fc_hz: f64, rate: f64) -> Vec<f64> {
@@ -202,7 +231,9 @@ pub fn clac_clip(rng: &mut GenRng, rate_hz: u32) -> Vec<f32> {
     for (n, e) in exc.iter_mut().enumerate().skip(start) {
         *e = rng.signed() * (-((n - start) as f64) / tau).exp();
     }
-    let mut y = high_pass(&exc, rng.range(300.0, 800.0), rate);
+    let hp_hz = rng.range(60.0, 150.0);
+    let lp_hz = rng.range(CLAC_LOW_PASS_HZ.0, CLAC_LOW_PASS_HZ.1);
+    let mut y = low_pass(&high_pass(&exc, hp_hz, rate), lp_hz, rate);
     y.resize(len, 0.0);
     let base = peak(&y).max(1e-12);
     let mut modal = vec![0.0f64; len];
@@ -216,6 +247,19 @@ pub fn clac_clip(rng: &mut GenRng, rate_hz: u32) -> Vec<f32> {
     let mp = peak(&modal).max(1e-12);
     for (o, m) in y.iter_mut().zip(&modal) {
         *o += m * base / mp;
+    }
+    // The snap's air pulse (beyond the seeds): pressure ∝ the volume acceleration of the patch
+    // that jumps, a first derivative of a Gaussian peaking at f_p (a snap of a few ms).
+    let f_pulse = rng.range(CLAC_PULSE_HZ.0, CLAC_PULSE_HZ.1);
+    let sigma = rate / (2.0 * std::f64::consts::PI * f_pulse); // samples
+    let centre = start as f64 + 3.0 * sigma;
+    let end = ((centre + 4.0 * sigma) as usize).min(len);
+    // The pulse's extremes are ±e^(−½) = ±0.6065 at t = ±σ: scaled to a peak of
+    // CLAC_PULSE_REL × the click's.
+    let g = CLAC_PULSE_REL * base / (-0.5f64).exp();
+    for (n, o) in y.iter_mut().enumerate().take(end) {
+        let t = (n as f64 - centre) / sigma;
+        *o -= g * t * (-0.5 * t * t).exp();
     }
     finish(y, 0.3 * rng.range(0.7, 1.0), 0.005, rate)
 }

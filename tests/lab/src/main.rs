@@ -21,6 +21,7 @@ mod hold_probe;
 mod insert_probe;
 mod iso_conv;
 mod iter_hist;
+mod octaves;
 mod play;
 mod rest_family;
 mod rest_probe;
@@ -111,6 +112,12 @@ const COMMANDS: &[Command] = &[
         about: "the isometry step's Phase I convergence after k iterations, every 60 frames",
         usage: iso_conv::USAGE,
         run: iso_conv::run,
+    },
+    Command {
+        name: "octaves",
+        about: "the octave profile and centroid of rendered WAV files, as a table and a PNG",
+        usage: octaves::USAGE,
+        run: octaves::run,
     },
     Command {
         name: "sound-hash",
