@@ -35,7 +35,10 @@
 //!    whose resonator is constrained (l_c = 0, the database's (0, 0) cell), since in the seeds
 //!    a clac is a crumpling event on a constrained resonator. Its amplitude is the summed
 //!    |dihedral| of the edges around the new vertex, in radians.
-//! 4. **Friction events** ([`friction_events`]): connected components of S_P vertices in contact
+//! 4. **Impacts** ([`impact`], beyond the seeds): the sheet slapping the table or the floor
+//!    (vertices that arrive faster than 5 cm/s) is a sudden change of contact, so a clac on
+//!    the constrained cell whose amplitude is the impacting area × speed.
+//! 5. **Friction events** ([`friction_events`]): connected components of S_P vertices in contact
 //!    with an obstacle (T 1770); the amplitude is the mean tangential slip speed relative to the
 //!    obstacle (S 153). Components slower than 2 mm/s are still (no sound).
 //!
@@ -91,6 +94,7 @@ pub mod crackle;
 pub mod curvature;
 pub mod curvature_grid;
 pub mod friction_events;
+pub mod impact;
 pub mod resonators;
 
 use serde::{Deserialize, Serialize};
@@ -170,6 +174,8 @@ pub struct AnalysisStats {
     pub crumple_events: u32,
     /// "Clac" events from new singular vertices.
     pub clac_events: u32,
+    /// "Clac" events from the sheet slapping the table or floor ([`impact`]).
+    pub impact_events: u32,
     /// Sliding contact regions.
     pub friction_events: u32,
     /// Grid points that flipped this frame.
@@ -422,6 +428,16 @@ impl SoundAnalysis {
             self.stats.clac_events += 1;
         }
         self.known_singular = singular.len();
+
+        // The sheet slapping the table (beyond the seeds, [`impact`]).
+        if let Some(e) = impact::impact_event(sp, input.vel_start, input.contacts, input.held) {
+            if f64::from(e.amplitude) >= cfg.min_event_amplitude {
+                out.push_crumple(e);
+                self.stats.impact_events += 1;
+            } else {
+                self.stats.quiet_events += 1;
+            }
+        }
 
         // Friction.
         self.stats.friction_events = self.friction.detect(

@@ -345,7 +345,7 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
                          (vmax {:.4} m/s, strain {:.3})",
                         m.max_speed_m_s, m.max_strain
                     ))
-                } else if a.crumple_events + a.clac_events > 0 {
+                } else if a.crumple_events + a.clac_events + a.impact_events > 0 {
                     Some("held still and asleep, the sheet made a crumple event".into())
                 } else if m.max_strain > HOLD_MAX_STRAIN {
                     Some(format!(

@@ -71,7 +71,7 @@ fn play(script: &Script, last_change_s: f64) -> Rest {
         }
         if t > SETTLE_S {
             let a = sim.analysis_stats();
-            rest.events_at_rest += a.crumple_events + a.clac_events;
+            rest.events_at_rest += a.crumple_events + a.clac_events + a.impact_events;
             rest.strain_at_rest = rest.strain_at_rest.max(s.max_strain);
         }
     }

@@ -5,11 +5,14 @@
 //! - a sheet held up by an edge and shaken at 3–6 Hz is heard (≥ −40 dBFS at the default mix),
 //!   louder at a faster rate, from the air it moves (`sound_analysis/air.rs`, `render/air.rs`);
 //! - a crumple that moves crackles between its events (`sound_analysis/crackle.rs`,
-//!   `render/crackle.rs`), and a sheet slid flat on the table or held still does neither.
+//!   `render/crackle.rs`), and a sheet slid flat on the table or held still does neither;
+//! - a sheet slapping the table claps (`sound_analysis/impact.rs`): a sheet held by an edge that
+//!   lies on the table and shaken claps on every swing, a flap let go claps as it lands, and a
+//!   sheet lying still or slid flat never does.
 
 mod render_common;
 
-use render_common::{play_script, printer_db, render, renderer, rms};
+use render_common::{play_script, play_script_with_stats, printer_db, render, renderer, rms};
 
 use papier::render::Scene;
 use sim_core::script::Script;
@@ -208,4 +211,99 @@ points = [[0.0, 0.0], [1.5, 0.4]]
     let (out, air, crackle) = render_frames(&play(still), |_| {});
     assert_eq!((air, crackle), (0, 0));
     assert!(out.iter().all(|v| *v == 0.0));
+}
+
+/// A sheet held by its back edge, which lies on the table, shaken at `rate_hz`: the free part
+/// lifts and slaps down on every swing.
+fn table_shake(size: &str, seed: u32, rate_hz: f64, depth: f64) -> String {
+    format!(
+        r#"version = 1
+duration_s = 3.0
+[set]
+size = "{size}"
+seed = {seed}
+[[grab]]
+slot = "back"
+on_s = 0.0
+[[lane]]
+id = "shake_rate_hz"
+interp = "step"
+points = [[0.0, {rate_hz}]]
+[[lane]]
+id = "shake_depth"
+interp = "step"
+points = [[0.0, 0.0], [0.3, {depth}]]
+"#
+    )
+}
+
+#[test]
+fn a_sheet_slapped_on_the_table_claps_on_every_swing() {
+    for (size, seed, rate_hz, depth) in [
+        ("a4", 11, 3.0, 0.8),
+        ("a5", 12, 4.5, 0.6),
+        ("a4", 13, 6.0, 0.7),
+        ("a6", 14, 5.0, 0.9),
+    ] {
+        let script = Script::parse(&table_shake(size, seed, rate_hz, depth)).unwrap();
+        let (frames, stats) = play_script_with_stats(&script, None);
+        // Every shake period from 1 s on (the swing has built up) has an impact.
+        let per_period = (FRAME_RATE / rate_hz).ceil() as usize;
+        let first = FRAME_RATE as usize;
+        let periods: Vec<u32> = stats[first..]
+            .chunks(per_period)
+            .filter(|c| c.len() == per_period)
+            .map(|c| c.iter().map(|s| s.impact_events).sum())
+            .collect();
+        let (out, _, _) = render_frames(&frames, |_| {});
+        eprintln!(
+            "{size} shaken on the table at {rate_hz} Hz: impacts per period {periods:?}, {:.1} dBFS",
+            dbfs(&out[(RATE as usize)..])
+        );
+        assert!(
+            periods.iter().all(|&n| n > 0),
+            "{size} at {rate_hz} Hz: a swing without a clap: {periods:?}"
+        );
+    }
+}
+
+#[test]
+fn a_flap_let_go_claps_as_it_lands_and_a_resting_sheet_never_does() {
+    // The front edge lifted to 0.5 and let go at 1.5 s: the sheet falls back onto the table.
+    let drop = r#"version = 1
+duration_s = 2.5
+[set]
+size = "a5"
+seed = 21
+[[grab]]
+slot = "front"
+on_s = 0.0
+off_s = 1.5
+[[lane]]
+id = "lift"
+interp = "smooth"
+points = [[0.0, 0.0], [1.0, 0.5]]
+"#;
+    let (frames, stats) = play_script_with_stats(&Script::parse(drop).unwrap(), None);
+    let landing = (1.5 * FRAME_RATE) as usize..(2.2 * FRAME_RATE) as usize;
+    let loudest = frames[landing.clone()]
+        .iter()
+        .flat_map(|f| f.crumple())
+        .filter(|e| e.resonator.is_constrained())
+        .map(|e| e.amplitude)
+        .fold(0.0f32, f32::max);
+    let impacts: u32 = stats[landing].iter().map(|s| s.impact_events).sum();
+    eprintln!("flap let go: {impacts} impacts, the loudest clac {loudest:.2}");
+    assert!(impacts > 0 && loudest > 0.2, "{impacts} impacts, {loudest}");
+    // Lying still, or slid flat by one edge: no impact at all.
+    for text in [
+        "version = 1\nduration_s = 1.0\n".to_string(),
+        "version = 1\nduration_s = 2.0\n[[grab]]\nslot = \"back\"\non_s = 0.0\n[[lane]]\n\
+         id = \"slide\"\ninterp = \"smooth\"\npoints = [[0.0, 0.0], [1.5, 0.4]]\n"
+            .to_string(),
+    ] {
+        let (_, stats) = play_script_with_stats(&Script::parse(&text).unwrap(), None);
+        let impacts: u32 = stats.iter().map(|s| s.impact_events).sum();
+        assert_eq!(impacts, 0, "{text}");
+    }
 }

@@ -51,7 +51,7 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
             strain = strain.max(s.max_strain);
             let a = p.sim.analysis_stats();
             if t > end_s - 1.0 {
-                events_last += a.crumple_events + a.clac_events;
+                events_last += a.crumple_events + a.clac_events + a.impact_events;
             }
             if t > perf.last_change_s {
                 if s.asleep {

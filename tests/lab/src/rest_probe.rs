@@ -72,7 +72,7 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
         w.speed = w.speed.max(s.max_speed_m_s);
         w.ke = w.ke.max(s.kinetic_energy_j);
         let a = p.sim.analysis_stats();
-        w.crumple += u64::from(a.crumple_events + a.clac_events);
+        w.crumple += u64::from(a.crumple_events + a.clac_events + a.impact_events);
         w.flipped += u64::from(a.flipped_points);
         let hands = &p.sim.rig().state.hands;
         let mut slipped = false;

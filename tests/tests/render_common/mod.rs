@@ -9,6 +9,7 @@ use papier::render::{MixLevels, Renderer, Scene};
 use sim_core::script::Script;
 use sim_core::script_runner::ScriptRunner;
 use sim_core::sim::{DEFAULT_FRAME_RATE_HZ, FrameOutput, SimConfig};
+use sim_core::sound_analysis::AnalysisStats;
 use sim_core::sound_input::{CrumpleEvent, FrictionSource, Obstacle, Resonator, SoundFrame};
 use sim_core::{Command, RoomConfig, SheetSize};
 use sounddb::SoundDb;
@@ -246,6 +247,14 @@ pub fn assert_same(a: &(Vec<f32>, Vec<f32>), b: &(Vec<f32>, Vec<f32>)) {
 /// Plays a script on a fresh sheet (optionally resized first) at the default frame rate and
 /// records every frame's sound input.
 pub fn play_script(script: &Script, size: Option<SheetSize>) -> Vec<SoundFrame> {
+    play_script_with_stats(script, size).0
+}
+
+/// [`play_script`], with each frame's sound-analysis counts.
+pub fn play_script_with_stats(
+    script: &Script,
+    size: Option<SheetSize>,
+) -> (Vec<SoundFrame>, Vec<AnalysisStats>) {
     let base = SimConfig::default();
     let mut runner = ScriptRunner::new(script, DEFAULT_FRAME_RATE_HZ, base.room).unwrap();
     let mut sim = runner.start(base);
@@ -253,9 +262,10 @@ pub fn play_script(script: &Script, size: Option<SheetSize>) -> Vec<SoundFrame> 
         sim.apply(Command::Size(s));
     }
     let mut out = FrameOutput::default();
-    let mut frames = Vec::new();
+    let (mut frames, mut stats) = (Vec::new(), Vec::new());
     while runner.drive(&mut sim, &mut out) {
         frames.push(out.sound);
+        stats.push(*sim.analysis_stats());
     }
-    frames
+    (frames, stats)
 }

@@ -1,0 +1,191 @@
+//! # The sheet slapping the table (beyond the seeds)
+//!
+//! The seeds hear a sudden change of shape or connectivity as a "clac" (T 1247, T 1261) and make
+//! one only where the geometry layer creates a singular vertex. A sheet shaken by an edge that
+//! lies on the table, or a flap dropped onto it, changes its contact suddenly — real paper
+//! slaps — and made no sound (issue 52: a table shake at −78.7 dBFS). This source turns the
+//! table's sudden stop of the sheet into one clac per frame:
+//!
+//! ```text
+//! v_n,i = −v_start,i · ẑ          for each vertex i touching the table or the floor, not held
+//! I     = Σ_{v_n,i > v_min} A_i v_n,i                        (area × approach speed, m³/s)
+//! amplitude = min(I / (A_ref v_ref), 4),  A_ref = 5 × 5 cm, v_ref = 1 m/s
+//! ```
+//!
+//! played by the database's constrained (0, 0) cell at the impacting patch (the centroid
+//! weighted by A_i v_n,i, the table's normal, the radius of the disk of the impacting area).
+//!
+//! Decisions, one line each:
+//! - **Approach speed from the frame's start velocities** (which the saved sheet holds): the
+//!   penalty contact stops a vertex within ~1.6 ms (ω_c = 4000 rad/s), so a vertex that touches
+//!   at the end of a frame it started approaching at v_n is an impact of this frame, and the
+//!   next frame starts near rest: one event per slap with no history of its own to save.
+//! - **v_min = 5 cm/s**: a sheet resting, sliding or pressed by the hands has |v_z| of mm/s, and
+//!   a sheet settling after a gesture below it; a flap slapped by a shake reaches 0.2–1 m/s.
+//! - **Table and floor only**: their normal is ẑ. The wall and the sheet's own layers are left
+//!   out (a wall slap would need the wall's normal here; layers have no friction yet).
+//! - **Amplitude on the clacs' scale** (their amplitude is a summed dihedral in radians, up to 4):
+//!   a 10 × 10 cm flap slapping at 0.5 m/s is a clac of amplitude 2.
+
+use crate::collision::VertexContact;
+use crate::math::V3;
+use crate::sheet::physical::PhysMesh;
+use crate::sound_input::{CrumpleEvent, Obstacle, Resonator};
+
+/// Slowest approach that counts as an impact, m/s.
+pub const IMPACT_MIN_SPEED_M_S: f64 = 0.05;
+/// Reference impact: this area…, m².
+pub const IMPACT_REF_AREA_M2: f64 = 25e-4;
+/// …arriving at this speed has amplitude 1, m/s.
+pub const IMPACT_REF_SPEED_M_S: f64 = 1.0;
+/// Largest impact amplitude (the clacs' cap).
+pub const MAX_IMPACT_AMPLITUDE: f64 = 4.0;
+
+/// The frame's impact on the table or floor, if the sheet hit it (module doc). No allocation.
+pub fn impact_event(
+    sp: &PhysMesh,
+    vel_start: &[V3],
+    contacts: &[VertexContact],
+    held: &[bool],
+) -> Option<CrumpleEvent> {
+    let n = sp.num_vertices();
+    if vel_start.len() != n || contacts.len() < n || held.len() < n || sp.vertex_area_m2.len() != n
+    {
+        return None;
+    }
+    let (mut sum, mut area, mut centre) = (0.0f64, 0.0f64, V3::zeros());
+    for i in 0..n {
+        let c = contacts[i];
+        if !c.in_contact || held[i] || !matches!(c.obstacle, Obstacle::Table | Obstacle::Floor) {
+            continue;
+        }
+        let v_n = -vel_start[i].z;
+        if v_n.is_nan() || v_n <= IMPACT_MIN_SPEED_M_S || !v_n.is_finite() {
+            continue;
+        }
+        let a = sp.vertex_area_m2[i];
+        let w = a * v_n;
+        if !w.is_finite() {
+            continue;
+        }
+        sum += w;
+        area += a;
+        centre += sp.pos[i] * w;
+    }
+    if sum.is_nan() || sum <= 0.0 {
+        return None;
+    }
+    let centre = centre / sum;
+    let amplitude = (sum / (IMPACT_REF_AREA_M2 * IMPACT_REF_SPEED_M_S)).min(MAX_IMPACT_AMPLITUDE);
+    let radius_m = (area / std::f64::consts::PI).sqrt();
+    Some(CrumpleEvent {
+        amplitude: amplitude as f32,
+        resonator: Resonator {
+            // The impacting patch's size as its (unused) ruling length; l_c = 0: constrained.
+            lr_cm: (200.0 * radius_m) as f32,
+            lc_cm: 0.0,
+            centre_m: [centre.x as f32, centre.y as f32, centre.z as f32],
+            normal: [0.0, 0.0, 1.0],
+            radius_m: radius_m as f32,
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sheet::pattern::lattice;
+
+    fn flat_sheet() -> PhysMesh {
+        PhysMesh::from_pattern(&lattice(0.2, 0.1, 0.025), 0.0, 0.08).unwrap()
+    }
+
+    fn on(obstacle: Obstacle) -> VertexContact {
+        VertexContact {
+            in_contact: true,
+            obstacle,
+            ..VertexContact::default()
+        }
+    }
+
+    #[test]
+    fn a_sheet_landing_flat_is_one_impact_linear_in_its_speed() {
+        let sp = flat_sheet();
+        let n = sp.num_vertices();
+        let contacts = vec![on(Obstacle::Table); n];
+        let held = vec![false; n];
+        let area: f64 = sp.vertex_area_m2.iter().sum();
+        let e = impact_event(&sp, &vec![V3::new(0.0, 0.0, -0.2); n], &contacts, &held).unwrap();
+        let expected = area * 0.2 / (IMPACT_REF_AREA_M2 * IMPACT_REF_SPEED_M_S);
+        assert!((f64::from(e.amplitude) - expected).abs() < 1e-5, "{e:?}");
+        assert!(e.resonator.is_constrained());
+        assert!(
+            (f64::from(e.resonator.radius_m) - (area / std::f64::consts::PI).sqrt()).abs() < 1e-6
+        );
+        assert_eq!(e.resonator.normal, [0.0, 0.0, 1.0]);
+        // Twice the speed, twice the amplitude (below the cap).
+        let f = impact_event(&sp, &vec![V3::new(0.0, 0.0, -0.4); n], &contacts, &held).unwrap();
+        assert!((f.amplitude / e.amplitude - 2.0).abs() < 1e-5);
+        // The cap.
+        let g = impact_event(&sp, &vec![V3::new(0.0, 0.0, -50.0); n], &contacts, &held).unwrap();
+        assert_eq!(f64::from(g.amplitude), MAX_IMPACT_AMPLITUDE);
+    }
+
+    #[test]
+    fn resting_sliding_rising_held_or_wall_contacts_are_no_impact() {
+        let sp = flat_sheet();
+        let n = sp.num_vertices();
+        let table = vec![on(Obstacle::Table); n];
+        let free = vec![false; n];
+        // At rest, sliding, settling below v_min, lifting off.
+        for v in [
+            V3::zeros(),
+            V3::new(0.3, 0.1, 0.0),
+            V3::new(0.0, 0.0, -0.04),
+            V3::new(0.0, 0.0, 0.5),
+        ] {
+            assert!(
+                impact_event(&sp, &vec![v; n], &table, &free).is_none(),
+                "{v:?}"
+            );
+        }
+        let down = vec![V3::new(0.0, 0.0, -0.5); n];
+        // Not touching, held, on the wall or on the sheet itself.
+        assert!(impact_event(&sp, &down, &vec![VertexContact::default(); n], &free).is_none());
+        assert!(impact_event(&sp, &down, &table, &vec![true; n]).is_none());
+        for o in [Obstacle::Wall, Obstacle::SelfContact] {
+            assert!(impact_event(&sp, &down, &vec![on(o); n], &free).is_none());
+        }
+        // NaN velocities and mismatched inputs are ignored.
+        assert!(impact_event(&sp, &vec![V3::new(0.0, 0.0, f64::NAN); n], &table, &free).is_none());
+        assert!(impact_event(&sp, &down[..1], &table, &free).is_none());
+    }
+
+    #[test]
+    fn only_the_vertices_that_hit_count_and_place_the_clac() {
+        let sp = flat_sheet();
+        let n = sp.num_vertices();
+        let contacts = vec![on(Obstacle::Table); n];
+        let held = vec![false; n];
+        // The half with x > 0 slaps down; the other half rests.
+        let vel: Vec<V3> = sp
+            .pos
+            .iter()
+            .map(|p| {
+                if p.x > 0.0 {
+                    V3::new(0.0, 0.0, -0.5)
+                } else {
+                    V3::zeros()
+                }
+            })
+            .collect();
+        let e = impact_event(&sp, &vel, &contacts, &held).unwrap();
+        assert!(e.resonator.centre_m[0] > 0.03, "{e:?}");
+        let hit: f64 = (0..n)
+            .filter(|&i| sp.pos[i].x > 0.0)
+            .map(|i| sp.vertex_area_m2[i])
+            .sum();
+        let expected = hit * 0.5 / (IMPACT_REF_AREA_M2 * IMPACT_REF_SPEED_M_S);
+        assert!((f64::from(e.amplitude) - expected).abs() < 1e-5);
+    }
+}
