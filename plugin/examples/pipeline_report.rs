@@ -82,6 +82,7 @@ fn analysis_us(name: &str, spacing_frac: f64) -> (f64, f64, usize, usize) {
                 time_s: sim.time_s(),
                 vel_start: &sheet.sp.vel,
                 dt_s: 0.005,
+                planes: &sim.obstacles().planes,
             },
             &mut sound,
         );

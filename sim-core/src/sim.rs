@@ -915,6 +915,7 @@ impl Sim {
                 time_s: self.time_s(),
                 vel_start: &self.motion_start_vel,
                 dt_s: dt,
+                planes: &self.obstacles.planes,
             },
             &mut out.sound,
         );

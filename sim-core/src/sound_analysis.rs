@@ -35,9 +35,9 @@
 //!    whose resonator is constrained (l_c = 0, the database's (0, 0) cell), since in the seeds
 //!    a clac is a crumpling event on a constrained resonator. Its amplitude is the summed
 //!    |dihedral| of the edges around the new vertex, in radians.
-//! 4. **Impacts** ([`impact`], beyond the seeds): the sheet slapping the table or the floor
-//!    (vertices that arrive faster than 5 cm/s) is a sudden change of contact, so a clac on
-//!    the constrained cell whose amplitude is the impacting area × speed.
+//! 4. **Impacts** ([`impact`], beyond the seeds): the sheet slapping the table, the floor or
+//!    the wall (vertices that arrive faster than 5 cm/s) is a sudden change of contact, so a
+//!    clac on the constrained cell whose amplitude is the impacting area × speed.
 //! 5. **Friction events** ([`friction_events`]): connected components of S_P vertices in contact
 //!    with an obstacle (T 1770); the amplitude is the mean tangential slip speed relative to the
 //!    obstacle (S 153). Components slower than 2 mm/s are still (no sound).
@@ -99,7 +99,7 @@ pub mod resonators;
 
 use serde::{Deserialize, Serialize};
 
-use crate::collision::VertexContact;
+use crate::collision::{PlaneObstacle, VertexContact};
 use crate::sheet::physical::PhysMesh;
 use crate::sound_input::{CrumpleEvent, Resonator, SoundFrame};
 
@@ -165,6 +165,9 @@ pub struct AnalysisInput<'a> {
     pub vel_start: &'a [crate::math::V3],
     /// The frame's length, seconds (0: no air this frame).
     pub dt_s: f64,
+    /// The obstacles' planes (their normals place the impacts, [`impact`]); empty: the table
+    /// and the floor face up, the wall is not heard.
+    pub planes: &'a [PlaneObstacle],
 }
 
 /// Counts of one frame's analysis (meters, reports, tests).
@@ -429,10 +432,19 @@ impl SoundAnalysis {
         }
         self.known_singular = singular.len();
 
-        // The sheet slapping the table (beyond the seeds, [`impact`]).
-        if let Some(e) = impact::impact_event(sp, input.vel_start, input.contacts, input.held) {
+        // The sheet slapping the table, the floor or the wall (beyond the seeds, [`impact`]).
+        let mut impacts = [None; 3];
+        let n = impact::impact_events(
+            sp,
+            input.vel_start,
+            input.contacts,
+            input.held,
+            input.planes,
+            &mut impacts,
+        );
+        for e in impacts[..n].iter().flatten() {
             if f64::from(e.amplitude) >= cfg.min_event_amplitude {
-                out.push_crumple(e);
+                out.push_crumple(*e);
                 self.stats.impact_events += 1;
             } else {
                 self.stats.quiet_events += 1;
@@ -522,6 +534,7 @@ mod tests {
                 time_s,
                 vel_start: &[],
                 dt_s: 0.0,
+                planes: &[],
             },
             &mut out,
         );
@@ -676,6 +689,7 @@ mod tests {
             time_s: 0.0,
             vel_start: &[],
             dt_s: 0.0,
+            planes: &[],
         };
         an.analyze(&input, &mut out);
         an.finder.begin();
@@ -721,6 +735,7 @@ mod tests {
                 time_s: 0.0,
                 vel_start: &[],
                 dt_s: 0.0,
+                planes: &[],
             };
             an.analyze(&input, &mut SoundFrame::default());
             assert_eq!(an.regions.num_regions(), 1);
@@ -764,6 +779,7 @@ mod tests {
             time_s: 0.0,
             vel_start: &[],
             dt_s: 0.0,
+            planes: &[],
         };
         let mut out = SoundFrame::default();
         an.analyze(&input, &mut out);
@@ -788,6 +804,7 @@ mod tests {
             time_s: 1.0,
             vel_start: &[],
             dt_s: 0.0,
+            planes: &[],
         };
         an.analyze(&input, &mut out);
         let t = (0..sp.num_triangles() as u32)
@@ -851,6 +868,7 @@ mod tests {
                 time_s: 0.0,
                 vel_start: &[],
                 dt_s: 0.0,
+                planes: &[],
             };
             an.analyze(&input, &mut SoundFrame::default());
             let t = (0..sp.num_triangles())
@@ -940,6 +958,7 @@ mod tests {
                 time_s: 0.0,
                 vel_start: &[],
                 dt_s: 0.0,
+                planes: &[],
             },
             &mut out,
         );
@@ -967,6 +986,7 @@ mod tests {
                 time_s: 0.0,
                 vel_start: &[],
                 dt_s: 0.0,
+                planes: &[],
             },
             &mut out,
         );
@@ -990,6 +1010,7 @@ mod tests {
                 time_s: 0.0,
                 vel_start: &[],
                 dt_s: 0.0,
+                planes: &[],
             },
             &mut out,
         );

@@ -527,6 +527,7 @@ impl super::Sim {
                         time_s: self.time_s(),
                         vel_start: &[],
                         dt_s: 0.0,
+                        planes: &[],
                     },
                     self.tear.mesh_tip,
                     tip_tri,

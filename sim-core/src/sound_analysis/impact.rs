@@ -7,13 +7,16 @@
 //! table's sudden stop of the sheet into one clac per frame:
 //!
 //! ```text
-//! v_n,i = −v_start,i · ẑ          for each vertex i touching the table or the floor, not held
+//! v_n,i = −(v_start,i · n_o − u_o)  for each vertex i touching a plane o (table, floor,
+//!                                  wall), not held; n_o the plane's normal, u_o its own
+//!                                  speed along it (a wall moved by the room)
 //! I     = Σ_{v_n,i > v_min} A_i v_n,i                        (area × approach speed, m³/s)
 //! amplitude = min(I / (A_ref v_ref), 4),  A_ref = 5 × 5 cm, v_ref = 1 m/s
 //! ```
 //!
 //! played by the database's constrained (0, 0) cell at the impacting patch (the centroid
-//! weighted by A_i v_n,i, the table's normal, the radius of the disk of the impacting area).
+//! weighted by A_i v_n,i, the plane's normal, the radius of the disk of the impacting area);
+//! one clac per plane hit in the frame.
 //!
 //! Decisions, one line each:
 //! - **Approach speed from the frame's start velocities** (which the saved sheet holds): the
@@ -22,12 +25,15 @@
 //!   next frame starts near rest: one event per slap with no history of its own to save.
 //! - **v_min = 5 cm/s**: a sheet resting, sliding or pressed by the hands has |v_z| of mm/s, and
 //!   a sheet settling after a gesture below it; a flap slapped by a shake reaches 0.2–1 m/s.
-//! - **Table and floor only**: their normal is ẑ. The wall and the sheet's own layers are left
-//!   out (a wall slap would need the wall's normal here; layers have no friction yet).
+//! - **The planes only**: the table, the floor and the wall, whose normals the simulation
+//!   passes in (without them the table and the floor face up and the wall is not heard). The
+//!   sheet's own layers are left out: two layers have no normal of their own, and the layers
+//!   have no friction yet. The approach is relative to the plane, so a sheet following a wall
+//!   that recedes, or pushed by one that advances, does not clap.
 //! - **Amplitude on the clacs' scale** (their amplitude is a summed dihedral in radians, up to 4):
 //!   a 10 × 10 cm flap slapping at 0.5 m/s is a clac of amplitude 2.
 
-use crate::collision::VertexContact;
+use crate::collision::{PlaneObstacle, VertexContact};
 use crate::math::V3;
 use crate::sheet::physical::PhysMesh;
 use crate::sound_input::{CrumpleEvent, Obstacle, Resonator};
@@ -41,12 +47,44 @@ pub const IMPACT_REF_SPEED_M_S: f64 = 1.0;
 /// Largest impact amplitude (the clacs' cap).
 pub const MAX_IMPACT_AMPLITUDE: f64 = 4.0;
 
-/// The frame's impact on the table or floor, if the sheet hit it (module doc). No allocation.
-pub fn impact_event(
+/// Obstacles a sheet can slap, in the order of their events.
+const PLANE_KINDS: [Obstacle; 3] = [Obstacle::Table, Obstacle::Floor, Obstacle::Wall];
+
+/// The frame's impacts on the planes, one per plane hit (module doc), into `out` (at most 3).
+/// Returns how many. No allocation.
+pub fn impact_events(
     sp: &PhysMesh,
     vel_start: &[V3],
     contacts: &[VertexContact],
     held: &[bool],
+    planes: &[PlaneObstacle],
+    out: &mut [Option<CrumpleEvent>; 3],
+) -> usize {
+    let mut n = 0;
+    for kind in PLANE_KINDS {
+        let (normal, speed) = match planes.iter().find(|p| p.kind == kind) {
+            Some(p) => (p.normal, p.speed_m_s),
+            None if kind == Obstacle::Wall => continue,
+            None => (V3::z(), 0.0),
+        };
+        out[n] = impact_on(sp, vel_start, contacts, held, kind, normal, speed);
+        if out[n].is_some() {
+            n += 1;
+        }
+    }
+    n
+}
+
+/// The frame's impact on the plane `kind` of unit `normal` moving at `speed_m_s` along it, if
+/// the sheet hit it.
+fn impact_on(
+    sp: &PhysMesh,
+    vel_start: &[V3],
+    contacts: &[VertexContact],
+    held: &[bool],
+    kind: Obstacle,
+    normal: V3,
+    speed_m_s: f64,
 ) -> Option<CrumpleEvent> {
     let n = sp.num_vertices();
     if vel_start.len() != n || contacts.len() < n || held.len() < n || sp.vertex_area_m2.len() != n
@@ -56,10 +94,10 @@ pub fn impact_event(
     let (mut sum, mut area, mut centre) = (0.0f64, 0.0f64, V3::zeros());
     for i in 0..n {
         let c = contacts[i];
-        if !c.in_contact || held[i] || !matches!(c.obstacle, Obstacle::Table | Obstacle::Floor) {
+        if !c.in_contact || held[i] || c.obstacle != kind {
             continue;
         }
-        let v_n = -vel_start[i].z;
+        let v_n = speed_m_s - vel_start[i].dot(&normal);
         if v_n.is_nan() || v_n <= IMPACT_MIN_SPEED_M_S || !v_n.is_finite() {
             continue;
         }
@@ -85,7 +123,7 @@ pub fn impact_event(
             lr_cm: (200.0 * radius_m) as f32,
             lc_cm: 0.0,
             centre_m: [centre.x as f32, centre.y as f32, centre.z as f32],
-            normal: [0.0, 0.0, 1.0],
+            normal: [normal.x as f32, normal.y as f32, normal.z as f32],
             radius_m: radius_m as f32,
         },
     })
@@ -98,6 +136,18 @@ mod tests {
 
     fn flat_sheet() -> PhysMesh {
         PhysMesh::from_pattern(&lattice(0.2, 0.1, 0.025), 0.0, 0.08).unwrap()
+    }
+
+    /// The first impact of the frame with no planes given (the table and the floor face up).
+    fn impact_event(
+        sp: &PhysMesh,
+        vel: &[V3],
+        contacts: &[VertexContact],
+        held: &[bool],
+    ) -> Option<CrumpleEvent> {
+        let mut out = [None; 3];
+        impact_events(sp, vel, contacts, held, &[], &mut out);
+        out[0]
     }
 
     fn on(obstacle: Obstacle) -> VertexContact {
@@ -187,5 +237,48 @@ mod tests {
             .sum();
         let expected = hit * 0.5 / (IMPACT_REF_AREA_M2 * IMPACT_REF_SPEED_M_S);
         assert!((f64::from(e.amplitude) - expected).abs() < 1e-5);
+    }
+
+    #[test]
+    fn a_wall_slap_is_heard_along_the_walls_normal_when_the_wall_is_given() {
+        let sp = flat_sheet();
+        let n = sp.num_vertices();
+        let wall = vec![on(Obstacle::Wall); n];
+        let held = vec![false; n];
+        // The wall faces −y; the sheet arrives moving +y.
+        let plane = PlaneObstacle {
+            kind: Obstacle::Wall,
+            active: true,
+            normal: -V3::y(),
+            offset_m: -0.4,
+            target_offset_m: -0.4,
+            speed_m_s: 0.0,
+        };
+        let vel = vec![V3::new(0.0, 0.3, 0.0); n];
+        let mut out = [None; 3];
+        assert_eq!(
+            impact_events(&sp, &vel, &wall, &held, &[plane], &mut out),
+            1
+        );
+        let e = out[0].unwrap();
+        assert_eq!(e.resonator.normal, [0.0, -1.0, 0.0]);
+        assert!(e.resonator.is_constrained());
+        // Moving away from it, or with the wall not given: nothing.
+        let away = vec![V3::new(0.0, -0.3, 0.0); n];
+        assert_eq!(
+            impact_events(&sp, &away, &wall, &held, &[plane], &mut out),
+            0
+        );
+        assert_eq!(impact_events(&sp, &vel, &wall, &held, &[], &mut out), 0);
+        // A wall receding at the sheet's speed (its offset along −y growing: speed −0.3 along
+        // its normal) with the sheet following it: no approach, no clap.
+        let receding = PlaneObstacle {
+            speed_m_s: -0.3,
+            ..plane
+        };
+        assert_eq!(
+            impact_events(&sp, &vel, &wall, &held, &[receding], &mut out),
+            0
+        );
     }
 }
