@@ -8,9 +8,9 @@
 //! and its spectral centroid measured. The median centroid must rise as the sheet shrinks.
 //!
 //! Not in the family, and not holding: two hands pushing the back and front edges together. An
-//! A4 sheet pushed so arches with a ridge near each foot (a dihedral above a_max = 0.5 rad), so
-//! the free region that borders the contact is a 4 × 3 cm patch and rubs brighter than the A5's
-//! whole arch (docs/benchmarks.md, "Sound realism", the slide families).
+//! A4 sheet pushed so buckles into a plateau with a fold near each held edge (dihedrals above
+//! a_max = 0.5 rad on its 33 mm mesh edges), so the free region that borders the contact is a
+//! 4 × 3 cm patch and rubs brighter than the A5's whole arch (docs/decisions.md, "Sound realism").
 
 mod render_common;
 
