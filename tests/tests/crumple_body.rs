@@ -7,8 +7,11 @@
 //! the whole take. The family's median octave levels must lie in 8–15 dB under the loudest and
 //! its median centroid in 2.5–5 kHz.
 
+mod render_common;
+
 use papier::offline::cli::{InputSpec, RenderOptions};
 use rand::{RngExt, SeedableRng};
+use render_common::median;
 use sounddb::analysis;
 
 const CRUMPLES: u64 = 8;
@@ -67,12 +70,6 @@ fn profile(x: &[f32]) -> ([f64; 8], f64) {
         analysis::octave_profile_db(&psd, df),
         analysis::centroid_hz(&psd, df),
     )
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    0.5 * (v[(n - 1) / 2] + v[n / 2])
 }
 
 #[test]

@@ -15,7 +15,7 @@
 mod render_common;
 
 use rand::{RngExt, SeedableRng};
-use render_common::{anechoic, play_script, printer_db, render, renderer};
+use render_common::{anechoic, median, play_script, printer_db, render, renderer};
 use sim_core::SheetSize;
 use sim_core::script::Script;
 use sim_core::sound_input::SoundFrame;
@@ -92,16 +92,6 @@ fn centroid_hz(x: &[f32]) -> Option<f64> {
     }
     let psd = sounddb::analysis::welch_psd(x, RATE, n);
     Some(sounddb::analysis::centroid_hz(&psd, RATE / n as f64))
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 #[test]

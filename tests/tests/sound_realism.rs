@@ -51,32 +51,32 @@ fn dbfs(x: &[f32]) -> f64 {
     20.0 * rms(x).max(1e-12).log10()
 }
 
-/// A sheet held up by its front edge with no table under it, then shaken at `rate_hz` with
-/// `depth`.
-fn shake(size: &str, seed: u32, rate_hz: f64, depth: f64) -> String {
+/// Where the shaken sheet is held.
+#[derive(Clone, Copy)]
+enum Held {
+    /// By its front edge, lifted to 0.9 with no table under it, shaken from 0.8 s.
+    UpInTheAir,
+    /// By its back edge, which lies on the table, shaken from 0.3 s: the free part lifts and
+    /// slaps down on every swing.
+    OnTheTable,
+}
+
+/// A sheet held as `held` and shaken at `rate_hz` with `depth` for 3 s.
+fn shake(held: Held, size: &str, seed: u32, rate_hz: f64, depth: f64) -> String {
+    let (table, slot, lift, start_s) = match held {
+        Held::UpInTheAir => (
+            "table = false\n",
+            "front",
+            "[[lane]]\nid = \"lift\"\ninterp = \"smooth\"\npoints = [[0.0, 0.0], [0.5, 0.9]]\n",
+            0.8,
+        ),
+        Held::OnTheTable => ("", "back", "", 0.3),
+    };
     format!(
-        r#"version = 1
-duration_s = 3.0
-[set]
-size = "{size}"
-seed = {seed}
-table = false
-[[grab]]
-slot = "front"
-on_s = 0.0
-[[lane]]
-id = "lift"
-interp = "smooth"
-points = [[0.0, 0.0], [0.5, 0.9]]
-[[lane]]
-id = "shake_rate_hz"
-interp = "step"
-points = [[0.0, {rate_hz}]]
-[[lane]]
-id = "shake_depth"
-interp = "step"
-points = [[0.0, 0.0], [0.8, {depth}]]
-"#
+        "version = 1\nduration_s = 3.0\n[set]\nsize = \"{size}\"\nseed = {seed}\n{table}\
+         [[grab]]\nslot = \"{slot}\"\non_s = 0.0\n{lift}\
+         [[lane]]\nid = \"shake_rate_hz\"\ninterp = \"step\"\npoints = [[0.0, {rate_hz}]]\n\
+         [[lane]]\nid = \"shake_depth\"\ninterp = \"step\"\npoints = [[0.0, 0.0], [{start_s}, {depth}]]\n"
     )
 }
 
@@ -96,7 +96,7 @@ fn a_sheet_shaken_in_the_air_is_heard_and_louder_at_a_faster_rate() {
     ] {
         let mut levels = Vec::new();
         for rate in [3.0, 4.5, 6.0] {
-            let frames = play(&shake(size, seed, rate, depth));
+            let frames = play(&shake(Held::UpInTheAir, size, seed, rate, depth));
             let (out, air, _) = render_frames(&frames, |_| {});
             assert!(air > 0);
             let level = dbfs(&out[from..]);
@@ -213,30 +213,6 @@ points = [[0.0, 0.0], [1.5, 0.4]]
     assert!(out.iter().all(|v| *v == 0.0));
 }
 
-/// A sheet held by its back edge, which lies on the table, shaken at `rate_hz`: the free part
-/// lifts and slaps down on every swing.
-fn table_shake(size: &str, seed: u32, rate_hz: f64, depth: f64) -> String {
-    format!(
-        r#"version = 1
-duration_s = 3.0
-[set]
-size = "{size}"
-seed = {seed}
-[[grab]]
-slot = "back"
-on_s = 0.0
-[[lane]]
-id = "shake_rate_hz"
-interp = "step"
-points = [[0.0, {rate_hz}]]
-[[lane]]
-id = "shake_depth"
-interp = "step"
-points = [[0.0, 0.0], [0.3, {depth}]]
-"#
-    )
-}
-
 #[test]
 fn a_sheet_slapped_on_the_table_claps_on_every_swing() {
     for (size, seed, rate_hz, depth) in [
@@ -245,7 +221,7 @@ fn a_sheet_slapped_on_the_table_claps_on_every_swing() {
         ("a4", 13, 6.0, 0.7),
         ("a6", 14, 5.0, 0.9),
     ] {
-        let script = Script::parse(&table_shake(size, seed, rate_hz, depth)).unwrap();
+        let script = Script::parse(&shake(Held::OnTheTable, size, seed, rate_hz, depth)).unwrap();
         let (frames, stats) = play_script_with_stats(&script, None);
         // Every shake period from 1 s on (the swing has built up) has an impact.
         let per_period = (FRAME_RATE / rate_hz).ceil() as usize;

@@ -150,6 +150,14 @@ mod tests {
         out[0]
     }
 
+    /// A flat sheet, every vertex touching `obstacle`, none held: (sheet, vertex count,
+    /// contacts, held flags).
+    fn on_obstacle(obstacle: Obstacle) -> (PhysMesh, usize, Vec<VertexContact>, Vec<bool>) {
+        let sp = flat_sheet();
+        let n = sp.num_vertices();
+        (sp, n, vec![on(obstacle); n], vec![false; n])
+    }
+
     fn on(obstacle: Obstacle) -> VertexContact {
         VertexContact {
             in_contact: true,
@@ -160,10 +168,7 @@ mod tests {
 
     #[test]
     fn a_sheet_landing_flat_is_one_impact_linear_in_its_speed() {
-        let sp = flat_sheet();
-        let n = sp.num_vertices();
-        let contacts = vec![on(Obstacle::Table); n];
-        let held = vec![false; n];
+        let (sp, n, contacts, held) = on_obstacle(Obstacle::Table);
         let area: f64 = sp.vertex_area_m2.iter().sum();
         let e = impact_event(&sp, &vec![V3::new(0.0, 0.0, -0.2); n], &contacts, &held).unwrap();
         let expected = area * 0.2 / (IMPACT_REF_AREA_M2 * IMPACT_REF_SPEED_M_S);
@@ -183,10 +188,7 @@ mod tests {
 
     #[test]
     fn resting_sliding_rising_held_or_wall_contacts_are_no_impact() {
-        let sp = flat_sheet();
-        let n = sp.num_vertices();
-        let table = vec![on(Obstacle::Table); n];
-        let free = vec![false; n];
+        let (sp, n, table, free) = on_obstacle(Obstacle::Table);
         // At rest, sliding, settling below v_min, lifting off.
         for v in [
             V3::zeros(),
@@ -213,10 +215,7 @@ mod tests {
 
     #[test]
     fn only_the_vertices_that_hit_count_and_place_the_clac() {
-        let sp = flat_sheet();
-        let n = sp.num_vertices();
-        let contacts = vec![on(Obstacle::Table); n];
-        let held = vec![false; n];
+        let (sp, n, contacts, held) = on_obstacle(Obstacle::Table);
         // The half with x > 0 slaps down; the other half rests.
         let vel: Vec<V3> = sp
             .pos
@@ -241,10 +240,7 @@ mod tests {
 
     #[test]
     fn a_wall_slap_is_heard_along_the_walls_normal_when_the_wall_is_given() {
-        let sp = flat_sheet();
-        let n = sp.num_vertices();
-        let wall = vec![on(Obstacle::Wall); n];
-        let held = vec![false; n];
+        let (sp, n, wall, held) = on_obstacle(Obstacle::Wall);
         // The wall faces −y; the sheet arrives moving +y.
         let plane = PlaneObstacle {
             kind: Obstacle::Wall,
