@@ -32,7 +32,7 @@
 //!
 //! *The air pulse* (beyond the seeds): a crease snapping through jerks the patch around it, and
 //! the air it pushes radiates a pressure pulse ∝ its volume acceleration — a first derivative of
-//! a Gaussian peaking at 140–240 Hz (a snap of a few milliseconds), its peak 0.14 × the click's.
+//! a Gaussian peaking at 140–240 Hz (a snap of a few milliseconds), its peak 0.12 × the click's.
 //! It is what gives a crumple its body: clacs carry most of a crumple's event energy (their
 //! amplitudes are far above the flaps'), and a white click has its 125 Hz octave 15 dB under its
 //! 4 kHz octave, where real crumple recordings have it 9–15 dB under the loudest (issue 52). The
@@ -51,7 +51,7 @@ pub const CLAC_LOW_PASS_HZ: (f64, f64) = (2_000.0, 3_500.0);
 /// Peak frequency range of a clac's air pulse, Hz.
 pub const CLAC_PULSE_HZ: (f64, f64) = (140.0, 240.0);
 /// Peak of a clac's air pulse relative to its click.
-pub const CLAC_PULSE_REL: f64 = 0.14;
+pub const CLAC_PULSE_REL: f64 = 0.12;
 
 /// One sub-burst of the excitation.
 struct Burst {
