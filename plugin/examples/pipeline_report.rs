@@ -83,6 +83,7 @@ fn analysis_us(name: &str, spacing_frac: f64) -> (f64, f64, usize, usize) {
                 vel_start: &sheet.sp.vel,
                 dt_s: 0.005,
                 planes: &sim.obstacles().planes,
+                pressed_m: 0.0,
             },
             &mut sound,
         );

@@ -101,6 +101,12 @@
 //! touch and the contact holds them ("The crumple cap follows the sheet; the squeeze stops at
 //! 1 mm").
 //!
+//! **Pressing.** While the squeeze is held at its limit the crumple value may go on rising or
+//! falling above it; the hands cannot follow, and what they would have travelled is kept
+//! (`crumple_pressed`) and handed to the sound analysis frame by frame at no more than the
+//! hands' speed ([`GestureRig::take_press_m`]): the crackle of a ball pressed harder or let go
+//! (sound_analysis/crackle.rs "Pressing"). It keeps the sheet awake while it lasts.
+//!
 //! Moving targets out of obstacles and carrying the hands along with a moving one is
 //! `obstacles`; the hands' part of a saved sheet is `saved` ([`SavedHandDef`]).
 
@@ -275,6 +281,10 @@ pub struct RigState {
     /// (`Sim::undo_pass_through`).
     #[serde(default)]
     pub undo_streak: u32,
+    /// The crumple value's travel the hands have not followed because the squeeze is held at
+    /// its limit, waiting to be pressed ("Pressing" in the module doc).
+    #[serde(default)]
+    pub crumple_pressed: f64,
 }
 
 fn no_squeeze_limit() -> f64 {
@@ -302,6 +312,7 @@ impl Default for RigState {
             crumple_limit: no_squeeze_limit(),
             crumple_speed: no_squeeze_limit(),
             undo_streak: 0,
+            crumple_pressed: 0.0,
         }
     }
 }
@@ -508,7 +519,35 @@ impl GestureRig {
 
     /// Sets a gesture value (already sanitized by the caller).
     pub fn set_gesture(&mut self, g: GestureParam, value: f32) {
-        self.state.commanded[g.index()] = value;
+        let i = g.index();
+        let limit = self.state.crumple_limit;
+        if g == GestureParam::Crumple && limit < 1.0 {
+            // The part of the change above the squeeze limit, which the hands cannot follow.
+            let (old, new) = (f64::from(self.state.commanded[i]), f64::from(value));
+            let pressed = (new.max(limit) - old.max(limit)).abs();
+            if pressed.is_finite() {
+                self.state.crumple_pressed += pressed;
+            }
+        }
+        self.state.commanded[i] = value;
+    }
+
+    /// This frame's press ("Pressing" in the module doc): how far the crumple hands would have
+    /// closed or opened this frame, metres summed over the hands, had the squeeze not been held
+    /// at its limit. At most one frame of the hands' travel; the rest is pressed in the next
+    /// frames (so a jump of the value presses at the hands' speed, not in one frame).
+    pub fn take_press_m(&mut self, frame_scale: f64) -> f64 {
+        let pressed = self.state.crumple_pressed;
+        if pressed.is_nan() || pressed <= 0.0 || !self.state.crumple_active {
+            self.state.crumple_pressed = 0.0;
+            return 0.0;
+        }
+        let step = pressed.min(self.crumple_rate_at(self.travel_clamp_m(frame_scale), 1.0));
+        self.state.crumple_pressed = pressed - step;
+        let hands_m: f64 = (0..NUM_CRUMPLE_HANDS)
+            .map(|j| self.info[NUM_SLOT_HANDS + j].def.home_ref.norm())
+            .sum();
+        step * CRUMPLE_CAP * hands_m
     }
 
     /// True if the rig will move something in the next frame.
@@ -520,7 +559,8 @@ impl GestureRig {
             .any(|&g| self.slew_target(g) != self.state.smoothed[g.index()]);
         let crumple_pending = (self.state.commanded[GestureParam::Crumple.index()] > 0.0)
             != self.state.crumple_active;
-        shaking || settling || crumple_pending || self.ownership_dirty
+        let pressing = self.state.crumple_pressed > 0.0;
+        shaking || settling || crumple_pending || pressing || self.ownership_dirty
     }
 
     /// Number of active hands (crumple hands included, suppressed ones excluded).
@@ -624,6 +664,11 @@ impl GestureRig {
     /// the hands travel (their speed, within the travel clamp), so the hands keep up with the
     /// value and stopping the value stops them (see "Crumple cap" in the module doc).
     fn crumple_rate(&self, clamp_m: f64) -> f64 {
+        self.crumple_rate_at(clamp_m, self.state.crumple_speed)
+    }
+
+    /// [`Self::crumple_rate`] at a squeeze speed (1: before it slows near the sheet).
+    fn crumple_rate_at(&self, clamp_m: f64, speed: f64) -> f64 {
         let frame_s = clamp_m / (TRAVEL_CLAMP_FRAC * self.l_paper() * DEFAULT_FRAME_RATE_HZ);
         let step_m = clamp_m.min(CRUMPLE_SPEED_M_S * frame_s);
         let lp = self.l_paper();
@@ -638,7 +683,7 @@ impl GestureRig {
             })
             .fold(0.0, f64::max);
         if reach_m > 0.0 {
-            self.state.crumple_speed * step_m / reach_m
+            speed * step_m / reach_m
         } else {
             f64::INFINITY
         }
@@ -1396,6 +1441,54 @@ mod tests {
         assert_eq!(c(&rig), f64::from(lowered));
         rig.set_gesture(GestureParam::Crumple, 1.0);
         assert!(step(&mut rig, &mut rng, f64::INFINITY) > 0.0);
+    }
+
+    /// Pressing: with the squeeze held at its limit, the command's travel above the limit (up
+    /// or down) is pressed, at most one frame of the hands' travel per frame, in metres summed
+    /// over the hands; the part under the limit, and any travel with no limit, is not.
+    #[test]
+    fn a_held_squeeze_presses_what_the_hands_cannot_follow() {
+        let (sheet, mut rig, obs, mut rng) = setup();
+        let g = GestureParam::Crumple;
+        rig.set_gesture(g, 0.5);
+        assert_eq!(rig.state.crumple_pressed, 0.0, "no limit, no press");
+        run(&mut rig, &sheet, &obs, &mut rng, 400);
+        assert_eq!(rig.state.smoothed[g.index()], 0.5);
+        rig.limit_squeeze(0.5 * (SQUEEZE_STOP_M + SQUEEZE_BACK_OFF_M), 1.0);
+        assert_eq!(rig.state.crumple_limit, 0.5);
+        assert_eq!(rig.take_press_m(1.0), 0.0);
+        let hands_m: f64 = (0..NUM_CRUMPLE_HANDS)
+            .map(|j| rig.info[NUM_SLOT_HANDS + j].def.home_ref.norm())
+            .sum::<f64>()
+            * CRUMPLE_CAP;
+        let frame_m = rig.crumple_rate_at(rig.travel_clamp_m(1.0), 1.0) * hands_m;
+        let drain = |rig: &mut GestureRig| {
+            let (mut sum, mut frames) = (0.0, 0);
+            while rig.state.crumple_pressed > 0.0 {
+                assert!(rig.is_moving(), "a press keeps the sheet awake");
+                let p = rig.take_press_m(1.0);
+                assert!(p > 0.0 && p <= frame_m * (1.0 + 1e-12), "{p} vs {frame_m}");
+                sum += p;
+                frames += 1;
+                assert!(frames < 10_000);
+            }
+            (sum, frames)
+        };
+        // Up by 0.3 in one jump: pressed over several frames, at the hands' speed.
+        rig.set_gesture(g, 0.8);
+        let (sum, frames) = drain(&mut rig);
+        assert!((sum - 0.3 * hands_m).abs() < 1e-6 * hands_m, "{sum}");
+        assert!(frames > 1, "{frames}");
+        // Down to 0.3: only the travel above the limit (0.8 → 0.5) is pressed.
+        rig.set_gesture(g, 0.3);
+        let (sum, _) = drain(&mut rig);
+        assert!((sum - 0.3 * hands_m).abs() < 1e-6 * hands_m, "{sum}");
+        // Under the limit the hands follow: released, and nothing pressed.
+        rig.limit_squeeze(f64::INFINITY, 1.0);
+        assert_eq!(rig.state.crumple_limit, 1.0);
+        rig.set_gesture(g, 0.9);
+        assert_eq!(rig.state.crumple_pressed, 0.0);
+        assert_eq!(rig.take_press_m(1.0), 0.0);
     }
 
     /// The crumple value moves no faster than the hands can follow: the fastest crumple

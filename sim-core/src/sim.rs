@@ -916,6 +916,7 @@ impl Sim {
                 vel_start: &self.motion_start_vel,
                 dt_s: dt,
                 planes: &self.obstacles.planes,
+                pressed_m: self.rig.take_press_m(frame_scale),
             },
             &mut out.sound,
         );

@@ -168,6 +168,9 @@ pub struct AnalysisInput<'a> {
     /// The obstacles' planes (their normals place the impacts, [`impact`]); empty: the table
     /// and the floor face up, the wall is not heard.
     pub planes: &'a [PlaneObstacle],
+    /// The crumple hands' closing this frame that the squeeze, held at its limit, did not
+    /// follow, metres summed over the hands (the press, [`crackle`]).
+    pub pressed_m: f64,
 }
 
 /// Counts of one frame's analysis (meters, reports, tests).
@@ -368,6 +371,10 @@ impl SoundAnalysis {
         out.air = air::air_source(sp, input.vel_start, input.contacts, input.held, input.dt_s);
         // The crackle under the events (beyond the seeds, [`crackle`]).
         out.crackle = crackle::crackle_source(sp);
+        if input.pressed_m > 0.0 {
+            let press = crackle::press_source(sp, input.held, input.pressed_m, input.dt_s);
+            out.crackle = crackle::merged(out.crackle, press);
+        }
 
         // Crumple events from curvature flips.
         self.grid.sample(sp, &self.curvature);
@@ -535,6 +542,7 @@ mod tests {
                 vel_start: &[],
                 dt_s: 0.0,
                 planes: &[],
+                pressed_m: 0.0,
             },
             &mut out,
         );
@@ -690,6 +698,7 @@ mod tests {
             vel_start: &[],
             dt_s: 0.0,
             planes: &[],
+            pressed_m: 0.0,
         };
         an.analyze(&input, &mut out);
         an.finder.begin();
@@ -736,6 +745,7 @@ mod tests {
                 vel_start: &[],
                 dt_s: 0.0,
                 planes: &[],
+                pressed_m: 0.0,
             };
             an.analyze(&input, &mut SoundFrame::default());
             assert_eq!(an.regions.num_regions(), 1);
@@ -780,6 +790,7 @@ mod tests {
             vel_start: &[],
             dt_s: 0.0,
             planes: &[],
+            pressed_m: 0.0,
         };
         let mut out = SoundFrame::default();
         an.analyze(&input, &mut out);
@@ -805,6 +816,7 @@ mod tests {
             vel_start: &[],
             dt_s: 0.0,
             planes: &[],
+            pressed_m: 0.0,
         };
         an.analyze(&input, &mut out);
         let t = (0..sp.num_triangles() as u32)
@@ -869,6 +881,7 @@ mod tests {
                 vel_start: &[],
                 dt_s: 0.0,
                 planes: &[],
+                pressed_m: 0.0,
             };
             an.analyze(&input, &mut SoundFrame::default());
             let t = (0..sp.num_triangles())
@@ -959,6 +972,7 @@ mod tests {
                 vel_start: &[],
                 dt_s: 0.0,
                 planes: &[],
+                pressed_m: 0.0,
             },
             &mut out,
         );
@@ -987,6 +1001,7 @@ mod tests {
                 vel_start: &[],
                 dt_s: 0.0,
                 planes: &[],
+                pressed_m: 0.0,
             },
             &mut out,
         );
@@ -1011,6 +1026,7 @@ mod tests {
                 vel_start: &[],
                 dt_s: 0.0,
                 planes: &[],
+                pressed_m: 0.0,
             },
             &mut out,
         );

@@ -9,9 +9,8 @@
 
 mod render_common;
 
-use papier::offline::cli::{InputSpec, RenderOptions};
 use rand::{RngExt, SeedableRng};
-use render_common::median;
+use render_common::{median, render_script_mono};
 use sounddb::analysis;
 
 const CRUMPLES: u64 = 8;
@@ -42,25 +41,6 @@ fn crumple(seed: u64) -> String {
     )
 }
 
-/// Renders a script as `papier-render --script` does; both channels averaged.
-fn render(name: &str, script: &str) -> Vec<f32> {
-    let dir = std::env::temp_dir().join(format!("papier_body_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let toml = dir.join(format!("{name}.toml"));
-    let wav = dir.join(format!("{name}.wav"));
-    std::fs::write(&toml, script).unwrap();
-    let opts = RenderOptions {
-        quiet: true,
-        ..RenderOptions::new(vec![InputSpec::Script(toml.clone())], wav.clone())
-    };
-    papier::offline::render(&opts).expect("the crumple renders");
-    let mut reader = hound::WavReader::open(&wav).unwrap();
-    let x: Vec<f32> = reader.samples::<f32>().map(Result::unwrap).collect();
-    let _ = std::fs::remove_file(&toml);
-    let _ = std::fs::remove_file(&wav);
-    x.chunks_exact(2).map(|c| 0.5 * (c[0] + c[1])).collect()
-}
-
 /// Octave levels re the loudest octave, dB, and the centroid, Hz.
 fn profile(x: &[f32]) -> ([f64; 8], f64) {
     let n = 8192;
@@ -77,7 +57,7 @@ fn a_crumple_has_body_below_500_hz_and_a_centroid_of_a_real_one() {
     let mut levels: Vec<[f64; 8]> = Vec::new();
     let mut centroids = Vec::new();
     for seed in 0..CRUMPLES {
-        let x = render(&format!("crumple_{seed}"), &crumple(seed));
+        let x = render_script_mono("body", &format!("crumple_{seed}"), &crumple(seed));
         let (l, c) = profile(&x);
         eprintln!(
             "crumple {seed}: centroid {c:.0} Hz, octaves {}",

@@ -528,6 +528,7 @@ impl super::Sim {
                         vel_start: &[],
                         dt_s: 0.0,
                         planes: &[],
+                        pressed_m: 0.0,
                     },
                     self.tear.mesh_tip,
                     tip_tri,

@@ -276,3 +276,25 @@ pub fn median(mut v: Vec<f64>) -> f64 {
     let n = v.len();
     0.5 * (v[(n - 1) / 2] + v[n / 2])
 }
+
+/// Renders script text as `papier-render --script` does (the engine in lockstep, the embedded
+/// database, the default mix, 48 kHz) through a temporary file; both channels averaged.
+/// `tag` names the test's temporary folder.
+pub fn render_script_mono(tag: &str, name: &str, script: &str) -> Vec<f32> {
+    use papier::offline::cli::{InputSpec, RenderOptions};
+    let dir = std::env::temp_dir().join(format!("papier_{tag}_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let toml = dir.join(format!("{name}.toml"));
+    let wav = dir.join(format!("{name}.wav"));
+    std::fs::write(&toml, script).unwrap();
+    let opts = RenderOptions {
+        quiet: true,
+        ..RenderOptions::new(vec![InputSpec::Script(toml.clone())], wav.clone())
+    };
+    papier::offline::render(&opts).expect("the script renders");
+    let mut reader = hound::WavReader::open(&wav).unwrap();
+    let x: Vec<f32> = reader.samples::<f32>().map(Result::unwrap).collect();
+    let _ = std::fs::remove_file(&toml);
+    let _ = std::fs::remove_file(&wav);
+    x.chunks_exact(2).map(|c| 0.5 * (c[0] + c[1])).collect()
+}
