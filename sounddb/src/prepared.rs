@@ -221,70 +221,45 @@ impl SoundDb {
         let unit_rate = rate / unit_decimation(rate) as f64;
         let resampler = (f64::from(db.sample_rate_hz) != unit_rate)
             .then(|| Resampler::new(f64::from(db.sample_rate_hz), unit_rate));
-        let resampled = match &resampler {
-            Some(r) => resample_units(r, &db.units),
-            None => Vec::new(),
-        };
+        // Spectra on one thread, the units on the others (each unit on its own: the same
+        // result whatever the threads).
+        let (quantized, (friction_cells, spectra)) = std::thread::scope(|scope| {
+            let spectra = scope.spawn(|| friction_spectra(db, bins, rate / frame_len as f64));
+            let quantized = quantize_units(resampler.as_ref(), &db.units);
+            let spectra = spectra
+                .join()
+                .unwrap_or_else(|_| friction_spectra(db, bins, rate / frame_len as f64));
+            (quantized, spectra)
+        });
+        let mut quantized: Vec<Option<QuantizedUnit>> = quantized.into_iter().map(Some).collect();
         let mut pcm: Vec<i16> = Vec::new();
         let mut units = Vec::with_capacity(db.units.len());
         for (k, members) in order.iter().enumerate() {
             crumple_cells[k].first_unit = units.len() as u32;
             crumple_cells[k].num_units = members.len() as u32;
             for &i in members {
-                let samples: &[f32] = match resampled.get(i) {
-                    Some(r) => {
-                        stats.resampled_units += 1;
-                        r
-                    }
-                    None => &db.units[i].samples,
+                let Some(u) = quantized[i].take() else {
+                    continue;
                 };
-                let peak = samples.iter().fold(0.0f32, |m, s| m.max(s.abs()));
-                let scale = if peak > 0.0 { peak / 32767.0 } else { 1.0 };
-                let q: Vec<i16> = samples
-                    .iter()
-                    .map(|s| (s / scale).round().clamp(-32767.0, 32767.0) as i16)
-                    .collect();
-                // −90 dB of the peak is 1.04 LSB: keep up to the last sample of magnitude ≥ 2.
-                let len = q
-                    .iter()
-                    .rposition(|v| v.unsigned_abs() >= 2)
-                    .map_or(1, |p| p + 1);
-                stats.trimmed_samples += q.len() - len;
+                if resampler.is_some() {
+                    stats.resampled_units += 1;
+                }
+                stats.trimmed_samples += u.trimmed;
                 pcm.extend(std::iter::repeat_n(0, UNIT_PAD));
                 let offset = pcm.len();
-                pcm.extend_from_slice(&q[..len]);
+                pcm.extend_from_slice(&u.q[..u.len]);
                 pcm.extend(std::iter::repeat_n(0, UNIT_PAD));
                 units.push(PreparedUnit {
                     offset,
-                    len,
-                    scale,
-                    peak,
+                    len: u.len,
+                    scale: u.scale,
+                    peak: u.peak,
                 });
             }
         }
         let crumple_index =
             CellIndex::new(&crumple_cells.iter().map(|c| c.cell).collect::<Vec<_>>());
 
-        let src_df = f64::from(db.spectrum_rate_hz) / (2.0 * db.spectrum_bins as f64);
-        let dst_df = rate / frame_len as f64;
-        let mut friction_cells = Vec::with_capacity(db.spectra.len());
-        let mut spectra = Vec::with_capacity(db.spectra.len() * bins);
-        for s in &db.spectra {
-            let power = spectrum_band_power(&s.magnitudes, src_df, bins, dst_df);
-            let inv_speed = 1.0 / f64::from(s.speed_m_s);
-            for (j, p) in power.iter().enumerate() {
-                let v = if j == 0 || j == bins - 1 {
-                    0.0
-                } else {
-                    (p / 2.0).sqrt() * inv_speed * f64::from(crate::REFERENCE_SLIDE_SPEED_M_S)
-                };
-                spectra.push(v as f32);
-            }
-            friction_cells.push(FrictionCell {
-                cell: s.cell,
-                reference_radius_m: s.cell.reference_radius_m(),
-            });
-        }
         let friction_index =
             CellIndex::new(&friction_cells.iter().map(|c| c.cell).collect::<Vec<_>>());
         pcm.shrink_to_fit();
@@ -433,45 +408,161 @@ impl SoundDb {
     }
 }
 
-/// Every unit resampled, in the units' order, on up to four threads: each unit is resampled on
-/// its own, so the result is the same whatever the threads (the resampling was most of a
-/// render's start-up at 48 kHz; docs/benchmarks.md, "Start-up of a render").
-fn resample_units(r: &Resampler, units: &[crate::database::Unit]) -> Vec<Vec<f32>> {
+/// A unit in the prepared layout: 16 bits at its own peak, trailing samples under −90 dB of the
+/// peak trimmed.
+struct QuantizedUnit {
+    q: Vec<i16>,
+    /// Samples kept.
+    len: usize,
+    /// Samples trimmed.
+    trimmed: usize,
+    scale: f32,
+    peak: f32,
+}
+
+/// `x` rounded half away from zero, as `f32::round` (which is a library call without SSE4.1):
+/// exact for |x| < 2²³, where the fractional part x − trunc(x) is exact; larger, infinite or NaN
+/// values are returned as they are, as `round` returns them.
+#[inline]
+fn round_half_away(x: f32) -> f32 {
+    if x.is_nan() || x.abs() >= 8_388_608.0 {
+        return x;
+    }
+    let t = x as i32 as f32;
+    let d = x - t;
+    if d >= 0.5 {
+        t + 1.0
+    } else if d <= -0.5 {
+        t - 1.0
+    } else {
+        t
+    }
+}
+
+fn quantize_unit(samples: &[f32]) -> QuantizedUnit {
+    let peak = samples.iter().fold(0.0f32, |m, s| m.max(s.abs()));
+    let scale = if peak > 0.0 { peak / 32767.0 } else { 1.0 };
+    let q: Vec<i16> = samples
+        .iter()
+        .map(|s| round_half_away(s / scale).clamp(-32767.0, 32767.0) as i16)
+        .collect();
+    // −90 dB of the peak is 1.04 LSB: keep up to the last sample of magnitude ≥ 2.
+    let len = q
+        .iter()
+        .rposition(|v| v.unsigned_abs() >= 2)
+        .map_or(1, |p| p + 1);
+    QuantizedUnit {
+        trimmed: q.len() - len,
+        q,
+        len,
+        scale,
+        peak,
+    }
+}
+
+/// One unit resampled (when the rates differ) and quantized.
+fn prepare_unit(r: Option<&Resampler>, u: &crate::database::Unit) -> QuantizedUnit {
+    match r {
+        Some(r) => quantize_unit(&r.process(&u.samples)),
+        None => quantize_unit(&u.samples),
+    }
+}
+
+/// Every unit resampled and quantized, in the units' order, on up to four threads (this one
+/// included), each taking the next unit as it is free (the units' lengths differ tenfold): each
+/// unit on its own, so the result is the same whatever the threads (the resampling was most of
+/// a render's start-up at 48 kHz; docs/benchmarks.md, "Start-up of a render").
+fn quantize_units(r: Option<&Resampler>, units: &[crate::database::Unit]) -> Vec<QuantizedUnit> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .clamp(1, 4)
         .min(units.len().div_ceil(8).max(1));
     if threads <= 1 {
-        return units.iter().map(|u| r.process(&u.samples)).collect();
+        return units.iter().map(|u| prepare_unit(r, u)).collect();
     }
-    let per = units.len().div_ceil(threads);
-    std::thread::scope(|s| {
-        let handles: Vec<_> = units
-            .chunks(per)
-            .map(|chunk| {
-                s.spawn(move || {
-                    chunk
-                        .iter()
-                        .map(|u| r.process(&u.samples))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        let mut out = Vec::with_capacity(units.len());
-        for h in handles {
-            match h.join() {
-                Ok(part) => out.extend(part),
-                // A thread that failed (it cannot, short of memory): do it all here instead.
-                Err(_) => return units.iter().map(|u| r.process(&u.samples)).collect(),
-            }
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(u) = units.get(i) else {
+                return done;
+            };
+            done.push((i, prepare_unit(r, u)));
         }
-        out
-    })
+    };
+    let mut slots: Vec<Option<QuantizedUnit>> = Vec::new();
+    slots.resize_with(units.len(), || None);
+    std::thread::scope(|s| {
+        let helpers: Vec<_> = (1..threads).map(|_| s.spawn(work)).collect();
+        let mut parts = vec![work()];
+        // A helper that failed (it cannot, short of memory) leaves its units to the loop below.
+        parts.extend(helpers.into_iter().filter_map(|h| h.join().ok()));
+        for (i, q) in parts.into_iter().flatten() {
+            slots[i] = Some(q);
+        }
+    });
+    slots
+        .into_iter()
+        .zip(units)
+        .map(|(q, u)| q.unwrap_or_else(|| prepare_unit(r, u)))
+        .collect()
+}
+
+/// The database's friction spectra moved onto the render's `bins` bins of `dst_df` Hz, as
+/// magnitudes at the reference slide speed, and their cells.
+fn friction_spectra(db: &Database, bins: usize, dst_df: f64) -> (Vec<FrictionCell>, Vec<f32>) {
+    let src_df = f64::from(db.spectrum_rate_hz) / (2.0 * db.spectrum_bins as f64);
+    let mut friction_cells = Vec::with_capacity(db.spectra.len());
+    let mut spectra = Vec::with_capacity(db.spectra.len() * bins);
+    for s in &db.spectra {
+        let power = spectrum_band_power(&s.magnitudes, src_df, bins, dst_df);
+        let inv_speed = 1.0 / f64::from(s.speed_m_s);
+        for (j, p) in power.iter().enumerate() {
+            let v = if j == 0 || j == bins - 1 {
+                0.0
+            } else {
+                (p / 2.0).sqrt() * inv_speed * f64::from(crate::REFERENCE_SLIDE_SPEED_M_S)
+            };
+            spectra.push(v as f32);
+        }
+        friction_cells.push(FrictionCell {
+            cell: s.cell,
+            reference_radius_m: s.cell.reference_radius_m(),
+        });
+    }
+    (friction_cells, spectra)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The inline rounding gives what `f32::round` gives (a sign of zero aside, which the cast
+    /// to 16 bits drops), so the prepared units keep their bits.
+    #[test]
+    fn rounding_half_away_is_f32_round() {
+        let mut x = -40_000.0f32;
+        while x < 40_000.0 {
+            for v in [
+                x,
+                x + 0.5,
+                x - 0.5,
+                x + 0.499_999_97,
+                x + 0.500_000_06,
+                x + 0.25,
+            ] {
+                assert!(round_half_away(v) == v.round(), "{v}");
+                assert_eq!(round_half_away(v) as i16, v.round() as i16, "{v}");
+            }
+            x += 0.731;
+        }
+        for v in [-0.4, -0.5, 0.5, 8_388_607.5, 1e9, -1e9, f32::INFINITY] {
+            assert!(round_half_away(v) == v.round(), "{v}");
+        }
+        assert!(round_half_away(f32::NAN).is_nan());
+    }
     use crate::database::{FrictionSpectrum, Unit};
 
     #[test]
