@@ -71,6 +71,7 @@ pub mod generate;
 pub mod import;
 pub mod manifest;
 pub mod pack;
+mod parallel;
 pub mod prepared;
 pub mod resample;
 mod wav;

@@ -468,46 +468,11 @@ fn prepare_unit(r: Option<&Resampler>, u: &crate::database::Unit) -> QuantizedUn
     }
 }
 
-/// Every unit resampled and quantized, in the units' order, on up to four threads (this one
-/// included), each taking the next unit as it is free (the units' lengths differ tenfold): each
-/// unit on its own, so the result is the same whatever the threads (the resampling was most of
-/// a render's start-up at 48 kHz; docs/benchmarks.md, "Start-up of a render").
+/// Every unit resampled and quantized, in the units' order, on the machine's cores
+/// ([`crate::parallel::map`]: the same result whatever the threads; the resampling was most of
+/// a render's start-up at 48 kHz, docs/benchmarks.md, "Start-up of a render").
 fn quantize_units(r: Option<&Resampler>, units: &[crate::database::Unit]) -> Vec<QuantizedUnit> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, 4)
-        .min(units.len().div_ceil(8).max(1));
-    if threads <= 1 {
-        return units.iter().map(|u| prepare_unit(r, u)).collect();
-    }
-    let next = AtomicUsize::new(0);
-    let work = || {
-        let mut done = Vec::new();
-        loop {
-            let i = next.fetch_add(1, Ordering::Relaxed);
-            let Some(u) = units.get(i) else {
-                return done;
-            };
-            done.push((i, prepare_unit(r, u)));
-        }
-    };
-    let mut slots: Vec<Option<QuantizedUnit>> = Vec::new();
-    slots.resize_with(units.len(), || None);
-    std::thread::scope(|s| {
-        let helpers: Vec<_> = (1..threads).map(|_| s.spawn(work)).collect();
-        let mut parts = vec![work()];
-        // A helper that failed (it cannot, short of memory) leaves its units to the loop below.
-        parts.extend(helpers.into_iter().filter_map(|h| h.join().ok()));
-        for (i, q) in parts.into_iter().flatten() {
-            slots[i] = Some(q);
-        }
-    });
-    slots
-        .into_iter()
-        .zip(units)
-        .map(|(q, u)| q.unwrap_or_else(|| prepare_unit(r, u)))
-        .collect()
+    crate::parallel::map(units, |u| prepare_unit(r, u))
 }
 
 /// The database's friction spectra moved onto the render's `bins` bins of `dst_df` Hz, as
