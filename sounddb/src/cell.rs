@@ -131,7 +131,7 @@ pub struct Lookup {
 
 /// Nearest-occupied-cell index over a fixed list of cells. Built once (allocates), queried
 /// without allocation.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct CellIndex {
     /// (ln straight, ln curved) of each free cell; `None` for the constrained cell.
     logs: Vec<Option<(f32, f32)>>,

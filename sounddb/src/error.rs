@@ -54,6 +54,9 @@ pub enum DbError {
     /// The single-file pack is malformed.
     #[error("sound database pack is malformed: {0}")]
     BadPack(String),
+    /// A prepared database image is malformed.
+    #[error("prepared sound database image is malformed: {0}")]
+    BadImage(String),
     /// Nothing usable was left after validation.
     #[error(
         "sound database {path} has no usable crumple unit and no usable friction spectrum ({skipped} entries skipped; see the warnings)"

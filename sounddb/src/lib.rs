@@ -64,6 +64,7 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+mod bytes;
 pub mod cell;
 pub mod database;
 pub mod error;

@@ -16,6 +16,7 @@
 use std::collections::BTreeMap;
 
 use crate::DbError;
+use crate::bytes::{ByteReader, PutLe};
 
 /// Magic bytes at the start of a pack.
 pub const MAGIC: &[u8; 8] = b"PAPIERDB";
@@ -113,12 +114,11 @@ pub fn pack(files: &BTreeMap<String, Vec<u8>>) -> Vec<u8> {
     let total: usize = files.iter().map(|(k, v)| k.len() + v.len() + 12).sum();
     let mut out = Vec::with_capacity(16 + total);
     out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&PACK_VERSION.to_le_bytes());
-    out.extend_from_slice(&(files.len() as u32).to_le_bytes());
+    out.put_u32(PACK_VERSION);
+    out.put_u32(files.len() as u32);
     for (name, data) in files {
-        out.extend_from_slice(&(name.len() as u32).to_le_bytes());
-        out.extend_from_slice(name.as_bytes());
-        out.extend_from_slice(&(data.len() as u64).to_le_bytes());
+        out.put_str(name);
+        out.put_u64(data.len() as u64);
         out.extend_from_slice(data);
     }
     out
@@ -126,7 +126,7 @@ pub fn pack(files: &BTreeMap<String, Vec<u8>>) -> Vec<u8> {
 
 /// Unpacks a byte string made by [`pack`].
 pub fn unpack(bytes: &[u8], label: &str) -> Result<MemSource, DbError> {
-    let mut r = Reader { bytes, pos: 0 };
+    let mut r = ByteReader::new(bytes, DbError::BadPack);
     if r.take(8)? != MAGIC {
         return Err(DbError::BadPack("missing PAPIERDB magic".into()));
     }
@@ -139,61 +139,23 @@ pub fn unpack(bytes: &[u8], label: &str) -> Result<MemSource, DbError> {
     let count = r.u32()? as usize;
     let mut files = BTreeMap::new();
     for i in 0..count {
-        let name_len = r.u32()? as usize;
-        let name = std::str::from_utf8(r.take(name_len)?)
-            .map_err(|_| DbError::BadPack(format!("file {i}: name is not UTF-8")))?
-            .to_string();
-        let len = usize::try_from(r.u64()?)
-            .map_err(|_| DbError::BadPack(format!("file {name}: length overflows")))?;
+        let name = r
+            .str()
+            .map_err(|_| DbError::BadPack(format!("file {i}: name is damaged or not UTF-8")))?;
+        let len = r.len()?;
         let data = r.take(len)?.to_vec();
         files.insert(name, data);
     }
-    if r.pos != bytes.len() {
+    if r.remaining() != 0 {
         return Err(DbError::BadPack(format!(
             "{} trailing bytes after {count} files",
-            bytes.len() - r.pos
+            r.remaining()
         )));
     }
     Ok(MemSource {
         label: label.to_string(),
         files,
     })
-}
-
-struct Reader<'a> {
-    bytes: &'a [u8],
-    pos: usize,
-}
-
-impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> Result<&'a [u8], DbError> {
-        let end = self
-            .pos
-            .checked_add(n)
-            .filter(|&e| e <= self.bytes.len())
-            .ok_or_else(|| {
-                DbError::BadPack(format!(
-                    "truncated: wanted {n} bytes at offset {}, {} left",
-                    self.pos,
-                    self.bytes.len() - self.pos
-                ))
-            })?;
-        let s = &self.bytes[self.pos..end];
-        self.pos = end;
-        Ok(s)
-    }
-
-    fn u32(&mut self) -> Result<u32, DbError> {
-        let b = self.take(4)?;
-        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    }
-
-    fn u64(&mut self) -> Result<u64, DbError> {
-        let b = self.take(8)?;
-        let mut a = [0u8; 8];
-        a.copy_from_slice(b);
-        Ok(u64::from_le_bytes(a))
-    }
 }
 
 #[cfg(test)]

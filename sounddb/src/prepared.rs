@@ -49,8 +49,10 @@
 //! dropped (a band limit of ≈ 20 kHz, said in the README). Friction spectra stay at the host
 //! rate: the friction noise is made at the host rate directly.
 
+mod image;
+
 use crate::cell::{Cell, CellIndex};
-use crate::database::{Database, DbInfo};
+use crate::database::{Database, DbInfo, FrictionSpectrum};
 use crate::resample::{Resampler, spectrum_band_power};
 use crate::{DbError, Warning};
 
@@ -106,6 +108,12 @@ pub fn unit_decimation(sample_rate_hz: f64) -> usize {
     }
 }
 
+/// The unit rate of a host rate: the rate a prepared database's units are stored and played at
+/// (the host rate / [`unit_decimation`]).
+pub fn unit_rate_of(sample_rate_hz: f64) -> f64 {
+    sample_rate_hz / unit_decimation(sample_rate_hz) as f64
+}
+
 /// Index of a cell in a prepared database (crumple or friction list).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct CellId(pub u16);
@@ -154,8 +162,18 @@ pub struct PrepareStats {
     pub resampled_units: usize,
 }
 
+/// The units of a prepared database: what depends on the unit rate only
+/// ([`SoundDb::unit_rate_hz`]), not on the host rate.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct PreparedUnits {
+    pcm: Vec<i16>,
+    units: Vec<PreparedUnit>,
+    crumple_cells: Vec<CrumpleCell>,
+    stats: PrepareStats,
+}
+
 /// A database prepared for one sample rate (see the module docs).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct SoundDb {
     /// 0 for the empty database (usable at any rate).
     sample_rate_hz: f64,
@@ -224,11 +242,18 @@ impl SoundDb {
         // Spectra on one thread, the units on the others (each unit on its own: the same
         // result whatever the threads).
         let (quantized, (friction_cells, spectra)) = std::thread::scope(|scope| {
-            let spectra = scope.spawn(|| friction_spectra(db, bins, rate / frame_len as f64));
+            let spectra = || {
+                friction_spectra(
+                    &db.spectra,
+                    db.spectrum_rate_hz,
+                    db.spectrum_bins,
+                    bins,
+                    rate / frame_len as f64,
+                )
+            };
+            let handle = scope.spawn(spectra);
             let quantized = quantize_units(resampler.as_ref(), &db.units);
-            let spectra = spectra
-                .join()
-                .unwrap_or_else(|_| friction_spectra(db, bins, rate / frame_len as f64));
+            let spectra = handle.join().unwrap_or_else(|_| spectra());
             (quantized, spectra)
         });
         let mut quantized: Vec<Option<QuantizedUnit>> = quantized.into_iter().map(Some).collect();
@@ -257,12 +282,41 @@ impl SoundDb {
                 });
             }
         }
+        pcm.shrink_to_fit();
+        SoundDb::assemble(
+            rate,
+            db.info.clone(),
+            PreparedUnits {
+                pcm,
+                units,
+                crumple_cells,
+                stats,
+            },
+            friction_cells,
+            spectra,
+        )
+    }
+
+    /// A prepared database from its parts: the lookup indexes and the active bins derived.
+    fn assemble(
+        rate: f64,
+        info: DbInfo,
+        prepared: PreparedUnits,
+        friction_cells: Vec<FrictionCell>,
+        spectra: Vec<f32>,
+    ) -> SoundDb {
+        let frame_len = friction_frame_len(rate);
+        let bins = frame_len / 2 + 1;
+        let PreparedUnits {
+            pcm,
+            units,
+            crumple_cells,
+            stats,
+        } = prepared;
         let crumple_index =
             CellIndex::new(&crumple_cells.iter().map(|c| c.cell).collect::<Vec<_>>());
-
         let friction_index =
             CellIndex::new(&friction_cells.iter().map(|c| c.cell).collect::<Vec<_>>());
-        pcm.shrink_to_fit();
         let spectra_active_bins = spectra
             .chunks(bins.max(1))
             .map(|s| s.iter().rposition(|v| *v != 0.0).map_or(0, |j| j + 1))
@@ -271,7 +325,7 @@ impl SoundDb {
         SoundDb {
             sample_rate_hz: rate,
             frame_len,
-            info: db.info.clone(),
+            info,
             pcm,
             units,
             crumple_cells,
@@ -292,7 +346,7 @@ impl SoundDb {
     /// The rate the units are stored and played at: the host rate / [`unit_decimation`]; 0 for
     /// the empty database.
     pub fn unit_rate_hz(&self) -> f64 {
-        self.sample_rate_hz / unit_decimation(self.sample_rate_hz) as f64
+        unit_rate_of(self.sample_rate_hz)
     }
 
     /// True if a renderer at `sample_rate_hz` can use this database.
@@ -475,29 +529,46 @@ fn quantize_units(r: Option<&Resampler>, units: &[crate::database::Unit]) -> Vec
     crate::parallel::map(units, |u| prepare_unit(r, u))
 }
 
-/// The database's friction spectra moved onto the render's `bins` bins of `dst_df` Hz, as
-/// magnitudes at the reference slide speed, and their cells.
-fn friction_spectra(db: &Database, bins: usize, dst_df: f64) -> (Vec<FrictionCell>, Vec<f32>) {
-    let src_df = f64::from(db.spectrum_rate_hz) / (2.0 * db.spectrum_bins as f64);
-    let mut friction_cells = Vec::with_capacity(db.spectra.len());
-    let mut spectra = Vec::with_capacity(db.spectra.len() * bins);
-    for s in &db.spectra {
+/// A database's friction spectra (`sources`, of `spectrum_bins` bins referring to
+/// `spectrum_rate_hz`) moved onto the render's `bins` bins of `dst_df` Hz, as magnitudes at the
+/// reference slide speed, and their cells.
+fn friction_spectra(
+    sources: &[FrictionSpectrum],
+    spectrum_rate_hz: u32,
+    spectrum_bins: usize,
+    bins: usize,
+    dst_df: f64,
+) -> (Vec<FrictionCell>, Vec<f32>) {
+    let src_df = f64::from(spectrum_rate_hz) / (2.0 * spectrum_bins as f64);
+    // Each spectrum on its own, on the machine's cores (the same values whatever the threads).
+    let binned = crate::parallel::map(sources, |s| {
         let power = spectrum_band_power(&s.magnitudes, src_df, bins, dst_df);
         let inv_speed = 1.0 / f64::from(s.speed_m_s);
-        for (j, p) in power.iter().enumerate() {
-            let v = if j == 0 || j == bins - 1 {
-                0.0
-            } else {
-                (p / 2.0).sqrt() * inv_speed * f64::from(crate::REFERENCE_SLIDE_SPEED_M_S)
-            };
-            spectra.push(v as f32);
-        }
-        friction_cells.push(FrictionCell {
+        power
+            .iter()
+            .enumerate()
+            .map(|(j, p)| {
+                if j == 0 || j == bins - 1 {
+                    0.0
+                } else {
+                    ((p / 2.0).sqrt() * inv_speed * f64::from(crate::REFERENCE_SLIDE_SPEED_M_S))
+                        as f32
+                }
+            })
+            .collect::<Vec<f32>>()
+    });
+    (friction_cells(sources), binned.concat())
+}
+
+/// The friction cells of a database's spectra, in their order.
+fn friction_cells(sources: &[FrictionSpectrum]) -> Vec<FrictionCell> {
+    sources
+        .iter()
+        .map(|s| FrictionCell {
             cell: s.cell,
             reference_radius_m: s.cell.reference_radius_m(),
-        });
-    }
-    (friction_cells, spectra)
+        })
+        .collect()
 }
 
 #[cfg(test)]

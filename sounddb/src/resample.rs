@@ -293,7 +293,8 @@ pub fn spectrum_band_power(
             return 0.0;
         }
         let x = f / src_df_hz;
-        let k = x.floor() as usize;
+        // x ≥ 0: the cast truncates to floor(x) without the library call.
+        let k = x as usize;
         if k + 1 >= src.len() {
             return if k + 1 == src.len() {
                 f64::from(src[k]).powi(2) / src_df_hz

@@ -9,10 +9,22 @@
 //! The generator is deterministic and fast without optimisation (about 1.2 s at `opt-level = 0`
 //! on the 2-core CI machine), so the build script costs the same in every profile.
 //!
+//! ## Prepared at build time for the common rates
+//!
+//! Decoding the pack and preparing it (resampling to 48 kHz, quantizing) was most of a render's
+//! start-up. The build script also prepares the units for the two common unit rates, 44.1 and 48
+//! kHz, and embeds each as an image in its run-time layout ([`sounddb::SoundDb::image`]): at
+//! 44.1, 48, 88.2, 96, 176.4 and 192 kHz [`default_db`] only copies the samples out of an image
+//! and bins the friction spectra. The prepared database is a pure function of the pack and the
+//! rate, and the preparation is exact arithmetic in a fixed order at every optimisation level,
+//! so a database read from an image equals one prepared at run time (tested here). Other rates
+//! are prepared from the pack. Decision: two images (≈ 16 MB more in each binary) rather than
+//! one, because at 44.1 kHz decoding and quantizing took as long as resampling did at 48 kHz.
+//!
 //! ## One prepared copy per sample rate in a process
 //!
-//! Decoding the pack and preparing it for a rate takes a noticeable moment (resampling the
-//! units when the rate is not 44.1 kHz) and the prepared database holds megabytes of samples.
+//! Preparing the database for a rate takes a moment (milliseconds from an image, tens of them
+//! from the pack) and the prepared database holds megabytes of samples.
 //! A host that runs several Papier instances loads the plugin's library once, so
 //! [`default_db`] keeps the prepared database of each rate while any instance (or renderer)
 //! still holds it — a weak reference in a process-wide table — and hands the same `Arc` to
@@ -20,7 +32,7 @@
 //! memory. The database is a pure function of the pack and the rate, so sharing it changes no
 //! sample. The most recently prepared copy is also held by the process itself ([`RECENT`]), so a
 //! host that closes an instance and opens a new one at the same rate — pedalboard re-creates the
-//! plugin on every render call — does not prepare it again (0.1 s at 48 kHz); a copy of any other
+//! plugin on every render call — does not prepare it again; a copy of any other
 //! rate is prepared again once its last holder drops it. The tables are locked only here, never
 //! on the audio thread.
 
@@ -30,9 +42,25 @@ use sounddb::{Database, DbError, SoundDb, Warning};
 
 static PACK: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/printer.papierdb"));
 
-/// The embedded pack (the generated printer database).
-pub fn embedded_pack() -> &'static [u8] {
-    PACK
+/// The unit rates with an embedded prepared image, and the images (module docs).
+const IMAGE_UNIT_RATES_HZ: [f64; 2] = [44_100.0, 48_000.0];
+static IMAGES: [&[u8]; 2] = [
+    include_bytes!(concat!(env!("OUT_DIR"), "/printer-44100.papierpd")),
+    include_bytes!(concat!(env!("OUT_DIR"), "/printer-48000.papierpd")),
+];
+
+/// The embedded database prepared for `sample_rate_hz`: read from the image of its unit rate
+/// where there is one, prepared from the pack otherwise.
+fn prepare_embedded(sample_rate_hz: f64) -> Result<SoundDb, DbError> {
+    let unit_rate = sounddb::prepared::unit_rate_of(sample_rate_hz);
+    let image = IMAGE_UNIT_RATES_HZ
+        .iter()
+        .position(|r| r.to_bits() == unit_rate.to_bits())
+        .map(|i| IMAGES[i]);
+    match image {
+        Some(image) => SoundDb::from_image(image, sample_rate_hz),
+        None => embedded_database().map(|(db, _)| SoundDb::prepare(&db, sample_rate_hz)),
+    }
 }
 
 /// Loads the embedded database at its own rate (44.1 kHz), with the loader's warnings.
@@ -40,8 +68,8 @@ pub fn embedded_database() -> Result<(Database, Vec<Warning>), DbError> {
     Database::from_pack(PACK, "embedded printer database")
 }
 
-/// The embedded printer database prepared for `sample_rate_hz`. Allocates and takes a few tens
-/// of milliseconds (resampling when the rate is not 44.1 kHz): call it off the audio thread. If
+/// The embedded printer database prepared for `sample_rate_hz`. Allocates and takes milliseconds
+/// (tens of them at a rate without an image): call it off the audio thread. If
 /// the embedded pack could not be read (it is validated by the tests, so this should not happen)
 /// the empty database is returned and the plugin stays silent rather than failing.
 ///
@@ -64,10 +92,7 @@ pub fn default_db(sample_rate_hz: f64) -> Arc<SoundDb> {
         keep_recent(&db);
         return db;
     }
-    let db = match embedded_database() {
-        Ok((db, _warnings)) => Arc::new(SoundDb::prepare(&db, sample_rate_hz)),
-        Err(_) => Arc::new(SoundDb::empty()),
-    };
+    let db = Arc::new(prepare_embedded(sample_rate_hz).unwrap_or_else(|_| SoundDb::empty()));
     let mut table = PREPARED.lock().unwrap_or_else(|e| e.into_inner());
     // Another caller may have prepared the same rate meanwhile: theirs is kept, equal to ours.
     if let Some(shared) = lookup(&mut table) {
@@ -103,6 +128,29 @@ mod tests {
         assert_eq!(db.units.len(), 249);
         assert_eq!(db.spectra.len(), 82);
         assert!(PACK.len() <= 12 * 1024 * 1024);
+    }
+
+    #[test]
+    fn the_embedded_images_equal_a_preparation_at_run_time() {
+        let (db, _) = embedded_database().unwrap();
+        for rate in [44_100.0, 48_000.0, 96_000.0] {
+            let read = prepare_embedded(rate).unwrap();
+            assert!(read.matches_rate(rate));
+            assert!(
+                read == SoundDb::prepare(&db, rate),
+                "{rate} Hz: image ≠ preparation"
+            );
+        }
+        // The images are what the build script made of this build's pack.
+        for (rate, image) in IMAGE_UNIT_RATES_HZ.iter().zip(IMAGES) {
+            assert!(
+                SoundDb::image(&db, *rate) == image,
+                "{rate} Hz image is stale"
+            );
+        }
+        // A rate next to one with an image is prepared from the pack.
+        let near = prepare_embedded(48_000.5).unwrap();
+        assert!(near.matches_rate(48_000.5) && near == SoundDb::prepare(&db, 48_000.5));
     }
 
     #[test]
