@@ -94,6 +94,28 @@ impl Default for StressConfig {
     }
 }
 
+impl StressConfig {
+    /// A session of the test suite's stress run (`sim-core/tests/stress.rs`): a coarser mesh
+    /// than the default (spacing L_paper/5, ~40 triangles on A4) so that four sessions fit plain
+    /// `cargo test`, size changes, the mesh checked every 500 frames and a save and restore
+    /// every 250. The lab's `stress-fixture` replays these with `TEST_SESSION=1`.
+    pub fn test_session(seed: u64, frames: u64) -> Self {
+        Self {
+            seed,
+            frames,
+            sim: SimConfig {
+                mesh: crate::sheet::MeshConfig { spacing_frac: 0.2 },
+                ..SimConfig::default()
+            },
+            change_size: true,
+            validate_every: 500,
+            restore_check_every: 250,
+            restore_check_frames: 4,
+            trace: false,
+        }
+    }
+}
+
 /// The outcome of a stress run.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StressReport {

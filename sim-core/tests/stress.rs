@@ -9,24 +9,12 @@
 //! coarser mesh than the default (spacing L_paper/5, ~40 triangles on A4); the binary runs the
 //! default mesh.
 
-use sim_core::sheet::MeshConfig;
-use sim_core::sim::SimConfig;
 use sim_core::stress::{StressConfig, run_with};
 
 fn session(seed: u64, frames: u64) -> sim_core::stress::StressReport {
-    let sim = SimConfig {
-        mesh: MeshConfig { spacing_frac: 0.2 },
-        ..SimConfig::default()
-    };
     let cfg = StressConfig {
-        seed,
-        frames,
-        sim,
-        change_size: true,
-        validate_every: 500,
-        restore_check_every: 250,
-        restore_check_frames: 4,
         trace: std::env::var_os("STRESS_TRACE").is_some(),
+        ..StressConfig::test_session(seed, frames)
     };
     // Geometry-layer invariants after every frame: the interior singular count never
     // decreases within a sheet's life (a reset starts a new sheet, a tear step may drop the

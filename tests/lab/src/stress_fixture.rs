@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release -p papier-lab -- stress-fixture [SEED] [FRAME] [OUT.json]` (default
 //! seed 2, frame 6452, `stress_seedSEED_frameFRAME.json`) saves the state after frame FRAME of
-//! `papier-lab stress --seed SEED --sessions 1`; `REUSE=0` steps the restored sheet without
+//! `papier-lab stress --seed SEED --sessions 1` (with `TEST_SESSION=1`: of the test suite's
+//! coarse session, `StressConfig::test_session`, as `sim-core/tests/stress.rs` runs it); `REUSE=0` steps the restored sheet without
 //! reused factorizations, `ITERS=N` with N Newton iterations per substep, `SUBSTEPS=N` with N
 //! substeps per frame.
 
@@ -26,11 +27,15 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
         .get(2)
         .cloned()
         .unwrap_or_else(|| format!("stress_seed{seed}_frame{frame}.json"));
-    let cfg = StressConfig {
-        seed,
-        frames: frame + 1,
-        sim: SimConfig::default(),
-        ..StressConfig::default()
+    let cfg = if env_is("TEST_SESSION", "1") {
+        StressConfig::test_session(seed, frame + 1)
+    } else {
+        StressConfig {
+            seed,
+            frames: frame + 1,
+            sim: SimConfig::default(),
+            ..StressConfig::default()
+        }
     };
     let mut saved = None;
     let report = run_with(&cfg, |f, sim| {
@@ -49,7 +54,7 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
     println!("{path}: {} bytes", json.len());
     // `REUSE=0`: the restored sheet steps without reused factorizations
     // (`SolverConfig::reuse_factor`).
-    let mut replay = SimConfig::default();
+    let mut replay = cfg.sim;
     replay.solver.reuse_factor = !env_is("REUSE", "0");
     if let Some(n) = env_num("ITERS") {
         replay.solver.iterations = n;
