@@ -36,15 +36,20 @@
 //! - **twist** τ ∈ \[−1, 1\]: the front group turns by τ·π about the sheet's long axis, +τ
 //!   raising the right (+x) side (C2, S5, C6); the left and right hands, spanning both halves,
 //!   do not twist.
-//! - **shake** d, f: every active handle moves vertically by `d·0.05·L·sin(φ)`, φ advancing by
-//!   2π·f·dt a frame (a continuous phase, so rate changes do not jump).
+//! - **shake** d, f: every active handle moves vertically by `d·A·sin(φ)`, φ advancing by
+//!   2π·f·dt a frame (a continuous phase, so rate changes do not jump). A =
+//!   [`SHAKE_AMPLITUDE_M`] ≈ 5.9 cm whatever the sheet: the hand moves, not the paper, and depth
+//!   1 is a vigorous shake (at 3 Hz the free part then flips on every swing: a shake whose peak
+//!   acceleration stays under g only bends the sheet's sag, docs/decisions.md, "Shake depth").
 //! - **crumple** c ∈ \[0, 1\]: 8 boundary points (corners, edge midpoints) become point handles
 //!   moving to `centre + (1 − c·k)(p − centre)`, k = [`CRUMPLE_CAP`], with a seeded jitter, a
 //!   lift of ≈ c·0.1·L and a tilt of c·[`CRUMPLE_TILT_RAD`]; they take precedence over slot
 //!   handles (a slot hand with a handle vertex on or next to theirs stands aside: two rigid
 //!   grips one edge apart tear the paper between them as they move) and go when c is back
 //!   at 0. Point handles, because rigid patches of neighbouring
-//!   hands would collide as the ring shrinks ("Hands, grip and obstacles").
+//!   hands would collide as the ring shrinks ("Hands, grip and obstacles"); but a hand alone
+//!   on a piece torn off holds its 1-ring as a pinch, else the piece swings on it as a
+//!   pendulum nothing stops (docs/decisions.md, "Shake depth").
 //!
 //! Gesture values follow slew-rate limits derived from the travel clamp (a jump becomes a sweep:
 //! a twist jump turns the hands along arcs instead of through each other), then each pose is
@@ -150,8 +155,14 @@ pub const TRAVEL_CLAMP_FRAC: f64 = 0.02;
 /// Per-frame rotation clamp of a hand frame at the default frame rate, radians
 /// (digest-tearing §4.3 (d)).
 pub const ROTATION_CLAMP_RAD: f64 = 0.05;
-/// Shake amplitude at depth 1, as a fraction of the sheet length.
-pub const SHAKE_AMPLITUDE_FRAC: f64 = 0.05;
+/// Shake amplitude at depth 1 as a fraction of [`SHAKE_REFERENCE_LENGTH_M`].
+pub const SHAKE_AMPLITUDE_FRAC: f64 = 0.2;
+/// The length the shake amplitude is a fraction of: an A4's (the same for every sheet size).
+/// Written as `depth × 0.2 × A4 length` so that a depth of d/4 now moves an A4 exactly as d moved
+/// it when the amplitude was 5 % of the sheet's own length (the seed scenes keep their bits).
+pub const SHAKE_REFERENCE_LENGTH_M: f64 = 29.7 * 0.01;
+/// Shake amplitude at depth 1, metres ([`SHAKE_AMPLITUDE_FRAC`] × [`SHAKE_REFERENCE_LENGTH_M`]).
+pub const SHAKE_AMPLITUDE_M: f64 = SHAKE_AMPLITUDE_FRAC * SHAKE_REFERENCE_LENGTH_M;
 /// Fraction of the free-arc edge angle by which sliding hands tilt their held patch.
 pub const SLIDE_TILT_GAIN: f64 = 0.7;
 /// Largest force a finger holds at grip 0, N.
@@ -435,6 +446,7 @@ impl GestureRig {
                 slide: V2::zeros(),
             };
         }
+        self.pinch_lone_crumple_hands(sheet);
         if self.claim.len() != sheet.sp.num_vertices() {
             self.claim = vec![u8::MAX; sheet.sp.num_vertices()];
             self.prev_claim = vec![u8::MAX; sheet.sp.num_vertices()];
@@ -455,6 +467,44 @@ impl GestureRig {
             }
         }
         self.ownership_dirty = true;
+    }
+
+    /// A crumple hand that is the only crumple hand on its piece of a torn sheet holds its
+    /// handle's 1-ring as a pinch instead of the bare point: a piece hanging from one point is a
+    /// pendulum a point handle cannot stop (it holds no rotation), while fingers pinching paper
+    /// hold its tangent plane. On a whole sheet every crumple hand shares the piece with seven
+    /// others and stays a point (the ring shrinks without neighbouring hands' patches
+    /// colliding). Active hands whose grip changes re-anchor where the sheet is. Allocates (the
+    /// pieces): called only when the mesh changes.
+    pub fn pinch_lone_crumple_hands(&mut self, sheet: &Sheet) {
+        let pieces = sheet.sp.topo.pieces();
+        if pieces.len() < 2 {
+            return;
+        }
+        let mut label = vec![u32::MAX; sheet.sp.num_vertices()];
+        for (k, p) in pieces.iter().enumerate() {
+            for &t in p {
+                for v in sheet.sp.triangles[t as usize] {
+                    label[v as usize] = k as u32;
+                }
+            }
+        }
+        let piece_of = |i: &HandInfo| label[i.def.vertices()[0] as usize];
+        for k in NUM_SLOT_HANDS..NUM_HANDS {
+            let own = piece_of(&self.info[k]);
+            let shared =
+                (NUM_SLOT_HANDS..NUM_HANDS).any(|j| j != k && piece_of(&self.info[j]) == own);
+            if shared || self.info[k].def.num_vertices > 1 {
+                continue;
+            }
+            let v = self.info[k].def.vertices()[0];
+            self.info[k].def = HandDef::new(sheet, &[HandleDef::at_vertex(sheet, v)]);
+            if self.state.hands[k].active {
+                let def = self.info[k].def;
+                self.state.hands[k].reanchor(&def, &sheet.sp.pos);
+            }
+            self.ownership_dirty = true;
+        }
     }
 
     /// Sets the home height (the table top) the targets are measured from.
@@ -650,7 +700,7 @@ impl GestureRig {
                 (max_angle / std::f64::consts::PI).min(clamp_m / (std::f64::consts::PI * 0.5 * w))
             }
             GestureParam::Crumple => self.crumple_rate(clamp_m),
-            GestureParam::ShakeDepth => clamp_m / (SHAKE_AMPLITUDE_FRAC * l),
+            GestureParam::ShakeDepth => clamp_m / (SHAKE_AMPLITUDE_FRAC * SHAKE_REFERENCE_LENGTH_M),
             // The hands' rotation (radians) that tears (sim/tear.rs).
             GestureParam::TearAmount => max_angle,
             // The pulling hands' force rises over at least 0.2 s (a jump is a firm pull, not
@@ -745,7 +795,7 @@ impl GestureRig {
         let z0 = self.home_z_m;
         let shake = g(GestureParam::ShakeDepth)
             * SHAKE_AMPLITUDE_FRAC
-            * l
+            * SHAKE_REFERENCE_LENGTH_M
             * self.state.shake_phase_rad.sin();
         if info.kind == HandKind::Crumple {
             let j = k - NUM_SLOT_HANDS;
@@ -1089,6 +1139,43 @@ mod tests {
     use crate::room::RoomConfig;
     use crate::sheet::MeshConfig;
     use rand::SeedableRng;
+
+    /// A crumple hand left alone on a piece torn off the sheet holds its 1-ring; the others,
+    /// sharing the rest of the sheet, stay points, and a whole sheet has only points.
+    #[test]
+    fn a_crumple_hand_alone_on_a_torn_off_piece_holds_its_ring() {
+        use crate::sheet::geometric::GeomStructure;
+        use crate::sheet::tear_step::{TearFrom, advance_tear};
+        let whole = Sheet::new_flat(SheetSize::A6, MeshConfig::default(), 0.75, 0.1);
+        let rig = GestureRig::new(&whole, 0.75);
+        assert!((NUM_SLOT_HANDS..NUM_HANDS).all(|k| rig.info[k].def.num_vertices == 1));
+        // Tear the back-left corner off: from the left edge to the back edge, 4 cm from it.
+        let (hw, hl) = (0.5 * whole.width_m, 0.5 * whole.length_m);
+        let (a, b) = (V2::new(-hw, -hl + 0.04), V2::new(-hw + 0.04, -hl - 0.01));
+        let mut sp = whole.sp.clone();
+        let mut from = TearFrom::Border(a);
+        for k in 1..=2 {
+            let st = advance_tear(&sp, from, a + (b - a) * (k as f64 / 2.0)).unwrap();
+            from = TearFrom::Tip(st.tip);
+            sp = st.mesh;
+            if sp.topo.pieces().len() == 2 {
+                break;
+            }
+        }
+        assert_eq!(sp.topo.pieces().len(), 2);
+        let sg = GeomStructure::initial(&sp);
+        let torn = Sheet { sp, sg, ..whole };
+        let rig = GestureRig::new(&torn, 0.75);
+        let corner = torn.nearest_vertex(V2::new(-hw, -hl), true);
+        for k in NUM_SLOT_HANDS..NUM_HANDS {
+            let def = &rig.info[k].def;
+            if def.vertices()[0] == corner {
+                assert!(def.num_vertices >= 3, "the lone corner holds its ring");
+            } else {
+                assert_eq!(def.num_vertices, 1, "hand {k} shares its piece: a point");
+            }
+        }
+    }
 
     fn setup() -> (Sheet, GestureRig, Obstacles, rand_pcg::Pcg32) {
         let sheet = Sheet::new_flat(SheetSize::A4, MeshConfig::default(), 0.75, 0.1);

@@ -80,19 +80,35 @@ fn shake(held: Held, size: &str, seed: u32, rate_hz: f64, depth: f64) -> String 
     )
 }
 
+/// Crumple events in each whole shake period from two periods after the shake starts at 0.8 s
+/// (the swing has built up).
+fn events_per_period(frames: &[SoundFrame], rate_hz: f64) -> Vec<usize> {
+    let first = ((0.8 + 2.0 / rate_hz) * FRAME_RATE).round() as usize;
+    let per_period = FRAME_RATE / rate_hz;
+    let whole = ((frames.len() - first) as f64 / per_period).floor() as usize;
+    (0..whole)
+        .map(|k| {
+            let a = first + (k as f64 * per_period).round() as usize;
+            let b = first + ((k + 1) as f64 * per_period).round() as usize;
+            frames[a..b].iter().map(|f| f.crumple().len()).sum()
+        })
+        .collect()
+}
+
 #[test]
 fn a_sheet_shaken_in_the_air_is_heard_and_louder_at_a_faster_rate() {
-    // A family: sizes, seeds, depths; rates 3, 4.5 and 6 Hz. No table: the sheet hangs in the
-    // air from the hand, so what is heard is the air it moves (and, shaken hard, the flaps'
-    // curvature flips).
+    // A family: sizes, seeds, depths (the issue's CC 90 is 0.709); rates 3, 4.5 and 6 Hz. No
+    // table: the sheet hangs in the air from the hand, so what is heard is the air it moves
+    // and the flaps its curvature flips make.
     let per_frame = (RATE / FRAME_RATE) as usize;
     let from = (1.2 * FRAME_RATE) as usize * per_frame;
     let mut all = Vec::new();
     for (size, seed, depth) in [
         ("a4", 1, 0.5),
-        ("a5", 2, 0.7),
+        ("a5", 2, 0.709),
         ("a4", 3, 0.9),
-        ("a6", 4, 0.6),
+        ("a6", 4, 0.709),
+        ("a4", 5, 0.709),
     ] {
         let mut levels = Vec::new();
         for rate in [3.0, 4.5, 6.0] {
@@ -100,32 +116,33 @@ fn a_sheet_shaken_in_the_air_is_heard_and_louder_at_a_faster_rate() {
             let (out, air, _) = render_frames(&frames, |_| {});
             assert!(air > 0);
             let level = dbfs(&out[from..]);
-            let events: usize = frames.iter().map(|f| f.crumple().len()).sum();
+            let periods = events_per_period(&frames, rate);
             eprintln!(
-                "{size} seed {seed} depth {depth} at {rate} Hz: {level:.1} dBFS, {events} events"
+                "{size} seed {seed} depth {depth} at {rate} Hz: {level:.1} dBFS, events per swing {periods:?}"
             );
+            // Heard at the default mix (issue 52's target, −40 dBFS), every sheet and rate.
+            assert!(
+                level >= -40.0,
+                "{size} seed {seed} at {rate} Hz: {level:.1} dBFS"
+            );
+            // At the issue's depth or more the free part flips in every swing.
+            if depth >= 0.7 {
+                assert!(
+                    periods.iter().all(|&n| n > 0),
+                    "{size} seed {seed} at {rate} Hz: a swing without an event: {periods:?}"
+                );
+            }
             levels.push(level);
         }
         all.push((size, seed, levels));
     }
     for (size, seed, levels) in &all {
-        // Louder at a faster rate, every sheet.
+        // Louder at a faster rate, every sheet (the level saturates once the flaps flip in
+        // every swing: measured 3 → 6 Hz +2.1 dB on the A6 card, +4 to +8 dB on the others).
         assert!(
-            levels.windows(2).all(|w| w[1] > w[0] + 2.0),
+            levels.windows(2).all(|w| w[1] > w[0]) && levels[2] > levels[0] + 1.5,
             "{size} seed {seed}: {levels:?}"
         );
-    }
-    // The A4 and A5 sheets shaken at 4.5 and 6 Hz are heard at the default mix (issue 52's
-    // target, −40 dBFS; the A4 at 3 Hz too). Measured: A5 at 3 Hz −48 dBFS and the A6 card
-    // −49 to −59 dBFS stay below it (docs/benchmarks.md, "Sound realism").
-    for (size, seed, levels) in &all {
-        let from_rate = if *size == "a4" { 0 } else { 1 };
-        if *size != "a6" {
-            assert!(
-                levels[from_rate..].iter().all(|l| *l >= -40.0),
-                "{size} seed {seed}: {levels:?}"
-            );
-        }
     }
     // A smaller sheet moves less air: the A6 is the quietest at every rate.
     for k in 0..3 {

@@ -166,6 +166,9 @@ impl Sim {
         }
         let (ownership, suppressed, pending) = self.rig.ownership_state();
         rig.restore_ownership(&ownership, suppressed, pending, false)?;
+        if keep_hand_defs {
+            rig.pinch_lone_crumple_hands(&sheet);
+        }
         // Old vertices keep their index: the contact boosts follow them.
         let mut physics = Physics::new(&sheet.sp);
         physics.set_contact_boosts(self.physics.contact_boosts(), sheet.sp.num_vertices())?;
