@@ -394,6 +394,9 @@ pub struct Sim {
     tear: tear::TearProgress,
     /// The fibres' resistance to a pull's tear (tearing/fibres.rs), from the sheet's seed.
     fibres: crate::tearing::fibres::FibreTexture,
+    /// The seed the fibres were made from: the sheet's when it was built (a seed changed
+    /// later is the next sheet's).
+    fibre_seed: u64,
     /// The lips' millimetre detail (tearing/lips.rs), rebuilt where the mesh changes.
     lips: crate::tearing::lips::Lips,
 }
@@ -494,6 +497,7 @@ impl Sim {
             phase_ns: PhaseTimes::default(),
             tear: tear::TearProgress::default(),
             fibres: crate::tearing::fibres::FibreTexture::new((cfg.seed ^ FIBRE_STREAM) as u32),
+            fibre_seed: cfg.seed,
             cfg,
             frame: 0,
             lips: crate::tearing::lips::Lips::default(),
@@ -729,6 +733,8 @@ impl Sim {
                     self.wake();
                 }
             }
+            // The new seed is the next sheet's (a reset or a size change): this sheet keeps its
+            // fibres, whose seed is saved with it.
             Command::Seed(s) => self.cfg.seed = s,
             Command::Room(r) => {
                 let r = r.sanitized();
@@ -1095,6 +1101,7 @@ impl Sim {
             quiet_frames: self.quiet_frames,
             geometry: Some(self.geometry.save()),
             contact_boosts: self.physics.contact_boosts().to_vec(),
+            fibre_seed: (self.fibre_seed != self.cfg.seed).then_some(self.fibre_seed),
             hand_defs: self.rig.hand_defs_state(),
             sound_history: Some(self.analysis.save_history()),
             tear: self.tear,
@@ -1134,6 +1141,14 @@ impl Sim {
             )));
         }
         let mut sim = Self::with_sheet(cfg, sheet);
+        if let Some(fs) = saved.fibre_seed
+            && fs != sim.fibre_seed
+        {
+            sim.fibre_seed = fs;
+            sim.fibres = crate::tearing::fibres::FibreTexture::new((fs ^ FIBRE_STREAM) as u32);
+            sim.lips.clear();
+            sim.rebuild_lips();
+        }
         {
             let sp = &mut sim.sheet.sp;
             for (i, p) in saved.positions_m.iter().enumerate() {

@@ -538,8 +538,10 @@ fn saved_differences(a: &SavedSheet, b: &SavedSheet) -> Vec<&'static str> {
         quiet_frames,
         geometry,
         contact_boosts,
+        fibre_seed,
         hand_defs,
-        sound_history
+        sound_history,
+        tear
     );
     if let (Some(ga), Some(gb)) = (&a.geometry, &b.geometry) {
         macro_rules! geometry_field {

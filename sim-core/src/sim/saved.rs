@@ -93,6 +93,10 @@ pub struct SavedSheet {
     /// ([`crate::physics::sheet_contact`]; absent in older saves: none).
     #[serde(default)]
     pub contact_boosts: Vec<crate::physics::sheet_contact::Boost>,
+    /// The seed the sheet's fibres were made from, if not `seed` (a seed changed after the
+    /// sheet was built is the next sheet's; absent in older saves: `seed`).
+    #[serde(default)]
+    pub fibre_seed: Option<u64>,
     /// Where each hand of the rig holds the sheet ([`crate::gesture_rig::SavedHandDef`];
     /// absent in older saves: worked out afresh from the sheet, as then).
     #[serde(default)]

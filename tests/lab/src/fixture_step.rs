@@ -4,7 +4,8 @@
 //! and split substeps and flipped triangles.
 //!
 //! `cargo run --release -p papier-lab -- fixture-step STATE.json [FRAMES]` (default 3 frames);
-//! `NOGEOM=1` steps with the geometry layer off, `STATS=1` prints each frame's whole stats.
+//! `NOGEOM=1` steps with the geometry layer off, `STATS=1` prints each frame's whole stats,
+//! `TEST_SESSION=1` steps with the test suite's stress session's configuration.
 
 use anyhow::Context;
 use sim_core::sim::{FrameOutput, SavedSheet, SimConfig};
@@ -27,7 +28,12 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                 .with_context(|| format!("{path} is neither a fixture nor a saved sheet"))?,
         },
     };
-    let mut cfg = SimConfig::default();
+    // TEST_SESSION=1: the test suite's coarse session's configuration (its slip scale).
+    let mut cfg = if std::env::var("TEST_SESSION").is_ok_and(|v| v == "1") {
+        sim_core::stress::StressConfig::test_session(0, 0).sim
+    } else {
+        SimConfig::default()
+    };
     cfg.geometry.enabled = std::env::var("NOGEOM").is_err();
     let mut sim = fixture.restore(cfg).context("restoring the sheet")?;
     let mut out = FrameOutput::default();

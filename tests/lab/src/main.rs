@@ -30,6 +30,7 @@ mod singular_probe;
 mod sound_hash;
 mod strain_frames;
 mod stress;
+mod stress_family;
 mod stress_fixture;
 
 use std::process::ExitCode;
@@ -130,6 +131,12 @@ const COMMANDS: &[Command] = &[
         about: "the long hostile stress run (10⁶ frames by default) of sim_core::stress",
         usage: stress::USAGE,
         run: stress::run,
+    },
+    Command {
+        name: "stress-family",
+        about: "the test suite's stress session over many seeds: how many fail",
+        usage: stress_family::USAGE,
+        run: stress_family::run,
     },
     Command {
         name: "stress-fixture",
