@@ -352,6 +352,8 @@ pub struct GestureRig {
     home_z_m: f64,
     width_m: f64,
     length_m: f64,
+    /// A hand travelled towards its target in the last frame ([`Self::hands_travelling`]).
+    travelled: bool,
 }
 
 impl GestureRig {
@@ -376,6 +378,7 @@ impl GestureRig {
             home_z_m,
             width_m: sheet.width_m,
             length_m: sheet.length_m,
+            travelled: false,
         };
         rig.rebuild_geometry(sheet, home_z_m);
         rig
@@ -613,6 +616,13 @@ impl GestureRig {
         shaking || settling || crumple_pending || pressing || self.ownership_dirty
     }
 
+    /// True if an active hand travelled towards its target in the last frame: it is still on
+    /// its way (at most its travel clamp a frame), though every gesture has settled. A hand
+    /// giving way to the sheet's pull does not count.
+    pub fn hands_travelling(&self) -> bool {
+        self.travelled
+    }
+
     /// Number of active hands (crumple hands included, suppressed ones excluded).
     pub fn num_active_hands(&self) -> usize {
         (0..NUM_HANDS)
@@ -667,12 +677,15 @@ impl GestureRig {
             + std::f64::consts::TAU * rate * dt_s)
             .rem_euclid(std::f64::consts::TAU);
         let mut moved = false;
+        self.travelled = false;
         for k in 0..NUM_HANDS {
             if !self.state.hands[k].active || self.suppressed[k] {
                 continue;
             }
             let target = self.pushed_out(k, self.target_pose(k), obstacles);
             moved |= self.state.hands[k].advance(&target, dt_s, clamp_m, max_angle);
+            // Travel, not a slip (a slip moves the pose after this, `apply_slip`).
+            self.travelled |= !self.state.hands[k].is_still();
         }
         moved |= self.carried_by_obstacles(obstacles, dt_s);
         moved
@@ -1224,6 +1237,35 @@ mod tests {
         assert!((gap - 0.5 * l).abs() < 1e-9, "gap {gap}");
         assert!(target[back].y - target[front].y < 0.6 * l);
         assert!(fixed.iter().filter(|&&f| f).count() >= 4 * 4);
+    }
+
+    /// A hand still on its way to its target is travelling though every gesture has settled
+    /// (the home height dropped by a room change: no gesture moves), and stops travelling
+    /// when it arrives.
+    #[test]
+    fn a_hand_on_its_way_is_travelling_until_it_arrives() {
+        let (sheet, mut rig, _, mut rng) = setup();
+        // No table: the hand's target is not pushed back up to a table top.
+        let obs = Obstacles::new(&RoomConfig {
+            table: false,
+            ..RoomConfig::default()
+        });
+        rig.grab(GrabSlot::Front, 1.0, &sheet.sp.pos);
+        run(&mut rig, &sheet, &obs, &mut rng, 20);
+        assert!(!rig.is_moving() && !rig.hands_travelling(), "held still");
+        rig.set_home_height(0.45);
+        let mut frames = 0;
+        while rig.hands_travelling() || frames == 0 {
+            assert!(!rig.is_moving(), "no gesture moves");
+            run(&mut rig, &sheet, &obs, &mut rng, 1);
+            frames += 1;
+            assert!(frames < 1000, "the hand never arrives");
+        }
+        // 30 cm at the travel clamp (2 % of the A4's length a frame, 5.9 mm) and no faster.
+        assert!(frames >= 50, "arrived in {frames} frames");
+        let hand = rig.state.hands.iter().find(|h| h.active).unwrap();
+        let z = hand.pose.pos().z;
+        assert!((z - 0.45).abs() < 0.02, "the hand at {z} m");
     }
 
     /// A hand pulled down and sideways beyond its grip slips sideways along the table but not

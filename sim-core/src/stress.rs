@@ -48,8 +48,8 @@ pub const MAX_SPEED_M_S: f64 = 50.0;
 pub const MAX_STRAIN: f64 = 1.0;
 /// Frames of a "hold still" phase: the shake stops and no other command comes.
 pub const HOLD_FRAMES: u64 = 600;
-/// In a hold, the sheet must be asleep this many frames after the rig and the room stopped
-/// moving (2 s: the hostile stream leaves sheets flung at metres per second or dropped from a
+/// In a hold, the sheet must be asleep this many frames after the rig (its gestures and its
+/// hands' travel) and the room stopped moving (2 s: the hostile stream leaves sheets flung at metres per second or dropped from a
 /// raised table, which take longer than the second a sheet held still by the user's gestures
 /// takes, `tests/rest.rs`).
 pub const HOLD_SETTLE_FRAMES: u64 = 400;
@@ -349,8 +349,11 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
         }
         if phase == 3 {
             // A table or wall still easing to where a room command put it is a change in
-            // progress too.
-            if sim.rig().is_moving() || sim.obstacles().is_moving() {
+            // progress too, and so is a hand still travelling to its target (a hand crosses
+            // 35 cm at 0.4 m/s on a 10 cm square: the travel clamp is 2 % of its length a
+            // frame).
+            if sim.rig().is_moving() || sim.rig().hands_travelling() || sim.obstacles().is_moving()
+            {
                 hold_moved_at = f;
             }
             if st.asleep {
