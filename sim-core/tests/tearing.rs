@@ -199,6 +199,29 @@ fn a_sheet_saved_after_a_seed_change_mid_tear_continues_bit_identically() {
     assert!(a.tear().separated);
 }
 
+/// A tear step that would leave a vertex joining two triangles by their corner alone (a
+/// bow-tie; the stress session of seed 1029 at frame 21 868, a coarse A4 torn twice) is
+/// refused: the mesh stays as it was, every piece a disc, and the tear goes on later.
+#[test]
+fn a_tear_step_that_would_make_a_bow_tie_is_refused() {
+    let fixture: sim_core::stress::StressFixture =
+        serde_json::from_str(include_str!("fixtures/stress_seed1029_frame21867.json")).unwrap();
+    let mut sim = fixture
+        .restore(sim_core::stress::StressConfig::test_session(0, 0).sim)
+        .unwrap();
+    assert!(
+        sim.tear().pending,
+        "the fixture's next frame makes a tear step"
+    );
+    let mut out = FrameOutput::default();
+    for k in 1..=5 {
+        sim.step(&mut out);
+        if let Err(e) = sim.sheet().sp.topo.validate_pieces() {
+            panic!("frame {k}: {e}");
+        }
+    }
+}
+
 #[test]
 fn a_tear_onsets_when_it_starts_and_again_after_a_pause_and_carries_its_flaps() {
     // A6 torn in two pushes: 0 → 0.3 over 0.3 s, held 0.3 s, 0.3 → 0.5 over 0.2 s, held.

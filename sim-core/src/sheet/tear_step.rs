@@ -60,6 +60,10 @@ pub enum TearError {
     /// Opening the chain failed.
     #[error(transparent)]
     Unzip(#[from] UnzipError),
+    /// The opened mesh would not be pieces that are discs (a vertex joining two triangles by
+    /// their corner alone: the cut ran through a vertex with a border on both sides).
+    #[error("the step would leave {0}")]
+    NotDiscs(String),
 }
 
 /// Drops the chain's ends that run along the border (crossings snapped to neighbouring border
@@ -151,6 +155,12 @@ pub fn advance_tear(sp: &PhysMesh, from: TearFrom, to: V2) -> Result<TearStep, T
     }
     trim_along_border(&mesh, &mut chain);
     let opened = unzip(&mesh, &chain)?;
+    // Refused, not repaired: the tip goes on and a later step cuts elsewhere.
+    opened
+        .mesh
+        .topo
+        .validate_pieces()
+        .map_err(TearError::NotDiscs)?;
     let tip = *chain.last().ok_or(TearError::TooShort)?;
     Ok(TearStep {
         mesh: opened.mesh,
