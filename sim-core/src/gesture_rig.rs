@@ -96,7 +96,10 @@
 //! > SQUEEZE_SLOW_M (2 cm)            at the hands' speed
 //! SQUEEZE_STOP_M … SQUEEZE_SLOW_M    slowed linearly, down to SQUEEZE_SLOWEST of it
 //! ≤ SQUEEZE_STOP_M (1 mm)            stopped, until the command falls below the limit
-//! < SQUEEZE_BACK_OFF_M (0.5 mm)      backing off by one frame's travel per frame
+//! < SQUEEZE_BACK_OFF_M (0.5 mm)      backing off by one frame's travel per frame, by at most
+//!                                    SQUEEZE_MAX_BACK_OFF (0.1) of the value until the
+//!                                    sheet has room again (≥ 1 mm), then stopped;
+//! 0 (crossing itself)                backing off as far as it takes
 //! ```
 //!
 //! The crumple value slews no faster than the hands follow, so stopping the value stops them. A
@@ -145,6 +148,12 @@ pub const SQUEEZE_SLOW_M: f64 = 0.02;
 pub const SQUEEZE_SLOWEST: f64 = 0.1;
 /// Closest approach below which the crumple hands back off, metres.
 pub const SQUEEZE_BACK_OFF_M: f64 = 0.0005;
+/// Largest back-off of the squeeze (crumple value) while the sheet stays closer to itself than
+/// [`SQUEEZE_BACK_OFF_M`]: layers the hands' backing off does not part were not pressed together
+/// by the squeeze (a twist, a lift, contact), and backing off further only unfolds the crumple
+/// after the gestures stopped. A sheet crossing itself (closest approach 0) backs off without
+/// this bound, until it no longer crosses ("Crumple cap" in the module doc).
+pub const SQUEEZE_MAX_BACK_OFF: f64 = 0.1;
 /// Reach of the closest-approach query, metres (pairs farther apart are not measured).
 pub const SQUEEZE_REACH_M: f64 = SQUEEZE_SLOW_M;
 /// Tilt of a crumple hand's frame at c = 1, radians.
@@ -296,6 +305,10 @@ pub struct RigState {
     /// its limit, waiting to be pressed ("Pressing" in the module doc).
     #[serde(default)]
     pub crumple_pressed: f64,
+    /// How far the squeeze has backed off (crumple value) since the sheet last had room
+    /// ([`SQUEEZE_MAX_BACK_OFF`]). Saves from before it load with 0.
+    #[serde(default)]
+    pub crumple_backed_off: f64,
 }
 
 fn no_squeeze_limit() -> f64 {
@@ -324,6 +337,7 @@ impl Default for RigState {
             crumple_speed: no_squeeze_limit(),
             undo_streak: 0,
             crumple_pressed: 0.0,
+            crumple_backed_off: 0.0,
         }
     }
 }
@@ -449,7 +463,7 @@ impl GestureRig {
                 slide: V2::zeros(),
             };
         }
-        self.pinch_lone_crumple_hands(sheet);
+        self.pinch_hinged_crumple_hands(sheet);
         if self.claim.len() != sheet.sp.num_vertices() {
             self.claim = vec![u8::MAX; sheet.sp.num_vertices()];
             self.prev_claim = vec![u8::MAX; sheet.sp.num_vertices()];
@@ -472,14 +486,15 @@ impl GestureRig {
         self.ownership_dirty = true;
     }
 
-    /// A crumple hand that is the only crumple hand on its piece of a torn sheet holds its
-    /// handle's 1-ring as a pinch instead of the bare point: a piece hanging from one point is a
-    /// pendulum a point handle cannot stop (it holds no rotation), while fingers pinching paper
-    /// hold its tangent plane. On a whole sheet every crumple hand shares the piece with seven
-    /// others and stays a point (the ring shrinks without neighbouring hands' patches
-    /// colliding). Active hands whose grip changes re-anchor where the sheet is. Allocates (the
-    /// pieces): called only when the mesh changes.
-    pub fn pinch_lone_crumple_hands(&mut self, sheet: &Sheet) {
+    /// A crumple hand that shares its piece of a torn sheet with at most one other crumple hand
+    /// holds its handle's 1-ring as a pinch instead of the bare point: a piece hanging from one
+    /// point is a pendulum, and one hanging from two points swings about the line through them
+    /// (a hinge); point handles hold no rotation, while fingers pinching paper hold its tangent
+    /// plane. Three or more point handles on a piece hold it as a body. On a whole sheet every
+    /// crumple hand shares the piece with seven others and stays a point (the ring shrinks
+    /// without neighbouring hands' patches colliding). Active hands whose grip changes re-anchor
+    /// where the sheet is. Allocates (the pieces): called only when the mesh changes.
+    pub fn pinch_hinged_crumple_hands(&mut self, sheet: &Sheet) {
         let pieces = sheet.sp.topo.pieces();
         if pieces.len() < 2 {
             return;
@@ -495,9 +510,10 @@ impl GestureRig {
         let piece_of = |i: &HandInfo| label[i.def.vertices()[0] as usize];
         for k in NUM_SLOT_HANDS..NUM_HANDS {
             let own = piece_of(&self.info[k]);
-            let shared =
-                (NUM_SLOT_HANDS..NUM_HANDS).any(|j| j != k && piece_of(&self.info[j]) == own);
-            if shared || self.info[k].def.num_vertices > 1 {
+            let others = (NUM_SLOT_HANDS..NUM_HANDS)
+                .filter(|&j| j != k && piece_of(&self.info[j]) == own)
+                .count();
+            if others > 1 || self.info[k].def.num_vertices > 1 {
                 continue;
             }
             let v = self.info[k].def.vertices()[0];
@@ -761,7 +777,8 @@ impl GestureRig {
     /// Caps the squeeze where the sheet comes close to itself (see "Crumple cap" in the module
     /// doc): `closest_m` is the sheet's closest approach to itself this frame
     /// ([`crate::self_proximity`]). Below [`SQUEEZE_BACK_OFF_M`] the hands back off by one
-    /// frame's travel, below [`SQUEEZE_STOP_M`] they stop; a commanded value below the limit
+    /// frame's travel, by at most [`SQUEEZE_MAX_BACK_OFF`] until the sheet has room again, below
+    /// [`SQUEEZE_STOP_M`] they stop; a commanded value below the limit
     /// releases it (the next squeeze goes on until the sheet comes close again).
     pub fn limit_squeeze(&mut self, closest_m: f64, frame_scale: f64) {
         let i = GestureParam::Crumple.index();
@@ -774,10 +791,24 @@ impl GestureRig {
         {
             self.state.crumple_limit = 1.0;
         }
-        if closest_m < SQUEEZE_BACK_OFF_M {
+        if closest_m >= SQUEEZE_STOP_M {
+            self.state.crumple_backed_off = 0.0;
+        }
+        // A sheet crossing itself (0) backs off as far as it takes.
+        let bounded = closest_m > 0.0;
+        if closest_m < SQUEEZE_BACK_OFF_M
+            && (!bounded || self.state.crumple_backed_off < SQUEEZE_MAX_BACK_OFF)
+        {
             let clamp_m = self.travel_clamp_m(frame_scale);
             let rate = self.slew_rate(GestureParam::Crumple, clamp_m, 0.0);
-            self.state.crumple_limit = (c - rate).max(0.0);
+            let rate = if bounded {
+                rate.min(SQUEEZE_MAX_BACK_OFF - self.state.crumple_backed_off)
+            } else {
+                rate
+            };
+            let to = (c - rate).max(0.0);
+            self.state.crumple_backed_off += c - to;
+            self.state.crumple_limit = to;
         } else if closest_m < SQUEEZE_STOP_M {
             self.state.crumple_limit = self.state.crumple_limit.min(c);
         }
@@ -1156,28 +1187,44 @@ mod tests {
     /// A crumple hand left alone on a piece torn off the sheet holds its 1-ring; the others,
     /// sharing the rest of the sheet, stay points, and a whole sheet has only points.
     #[test]
-    fn a_crumple_hand_alone_on_a_torn_off_piece_holds_its_ring() {
+    fn a_crumple_hand_on_a_piece_held_at_one_or_two_points_holds_its_ring() {
         use crate::sheet::geometric::GeomStructure;
         use crate::sheet::tear_step::{TearFrom, advance_tear};
         let whole = Sheet::new_flat(SheetSize::A6, MeshConfig::default(), 0.75, 0.1);
         let rig = GestureRig::new(&whole, 0.75);
         assert!((NUM_SLOT_HANDS..NUM_HANDS).all(|k| rig.info[k].def.num_vertices == 1));
-        // Tear the back-left corner off: from the left edge to the back edge, 4 cm from it.
         let (hw, hl) = (0.5 * whole.width_m, 0.5 * whole.length_m);
-        let (a, b) = (V2::new(-hw, -hl + 0.04), V2::new(-hw + 0.04, -hl - 0.01));
-        let mut sp = whole.sp.clone();
-        let mut from = TearFrom::Border(a);
-        for k in 1..=2 {
-            let st = advance_tear(&sp, from, a + (b - a) * (k as f64 / 2.0)).unwrap();
-            from = TearFrom::Tip(st.tip);
-            sp = st.mesh;
-            if sp.topo.pieces().len() == 2 {
-                break;
+        // Tears `whole` along a polyline from the border until it is in two pieces.
+        let tear_off = |path: &[V2]| {
+            let mut sp = whole.sp.clone();
+            let mut from = TearFrom::Border(path[0]);
+            'legs: for leg in path.windows(2) {
+                let steps = ((leg[1] - leg[0]).norm() / 0.01).ceil() as usize;
+                for k in 1..=steps {
+                    let to = leg[0] + (leg[1] - leg[0]) * (k as f64 / steps as f64);
+                    // A step that crosses no edge yet waits for the next (as the sim's tear).
+                    let Ok(st) = advance_tear(&sp, from, to) else {
+                        continue;
+                    };
+                    from = TearFrom::Tip(st.tip);
+                    sp = st.mesh;
+                    if sp.topo.pieces().len() == 2 {
+                        break 'legs;
+                    }
+                }
             }
-        }
-        assert_eq!(sp.topo.pieces().len(), 2);
-        let sg = GeomStructure::initial(&sp);
-        let torn = Sheet { sp, sg, ..whole };
+            assert_eq!(sp.topo.pieces().len(), 2);
+            let sg = GeomStructure::initial(&sp);
+            Sheet {
+                sp,
+                sg,
+                ..whole.clone()
+            }
+        };
+        let handle =
+            |rig: &GestureRig, k: usize| whole.sp.pattern[rig.info[k].def.vertices()[0] as usize];
+        // The back-left corner torn off, 4 cm from it: one crumple hand on it.
+        let torn = tear_off(&[V2::new(-hw, -hl + 0.04), V2::new(-hw + 0.04, -hl - 0.01)]);
         let rig = GestureRig::new(&torn, 0.75);
         let corner = torn.nearest_vertex(V2::new(-hw, -hl), true);
         for k in NUM_SLOT_HANDS..NUM_HANDS {
@@ -1188,6 +1235,35 @@ mod tests {
                 assert_eq!(def.num_vertices, 1, "hand {k} shares its piece: a point");
             }
         }
+        // The back-left quarter torn off around the corner hand and the left edge's hand: two
+        // crumple hands on it (a hinge), both pinch; the six on the rest stay points.
+        let on_quarter = |p: V2| p.x < -0.01 && p.y < 0.012;
+        let path = [
+            V2::new(-hw, 0.012),
+            V2::new(-0.01, 0.012),
+            V2::new(-0.01, -hl - 0.01),
+        ];
+        let torn = tear_off(&path);
+        let rig = GestureRig::new(&torn, 0.75);
+        let mut pinched = 0;
+        let whole_rig = GestureRig::new(&whole, 0.75);
+        for k in NUM_SLOT_HANDS..NUM_HANDS {
+            let p = handle(&whole_rig, k);
+            let def = &rig.info[k].def;
+            if on_quarter(p) {
+                assert!(
+                    def.num_vertices >= 3,
+                    "hand {k} on the hinged quarter pinches"
+                );
+                pinched += 1;
+            } else {
+                assert_eq!(
+                    def.num_vertices, 1,
+                    "hand {k} shares its piece with 5: a point"
+                );
+            }
+        }
+        assert_eq!(pinched, 2);
     }
 
     fn setup() -> (Sheet, GestureRig, Obstacles, rand_pcg::Pcg32) {
@@ -1570,6 +1646,40 @@ mod tests {
         assert_eq!(c(&rig), f64::from(lowered));
         rig.set_gesture(GestureParam::Crumple, 1.0);
         assert!(step(&mut rig, &mut rng, f64::INFINITY) > 0.0);
+    }
+
+    /// A squeeze whose backing off does not part the layers stops backing off after
+    /// SQUEEZE_MAX_BACK_OFF (rest family seed 5: an A6 twisted and crumpled kept unfolding for
+    /// 0.5 s after the last change, down to 0); once the sheet has room it may back off again.
+    #[test]
+    fn the_squeeze_backs_off_a_tenth_at_most_while_the_layers_stay_close() {
+        let (sheet, mut rig, obs, mut rng) = setup();
+        let g = GestureParam::Crumple;
+        rig.set_gesture(g, 0.8);
+        run(&mut rig, &sheet, &obs, &mut rng, 400);
+        let c0 = rig.state.smoothed[g.index()];
+        assert!((c0 - 0.8).abs() < 1e-6, "{c0}");
+        for _ in 0..400 {
+            rig.limit_squeeze(1e-4, 1.0);
+            run(&mut rig, &sheet, &obs, &mut rng, 1);
+        }
+        let held = rig.state.smoothed[g.index()];
+        assert!((held - (c0 - 0.1)).abs() < 1e-9, "{held}");
+        assert!((rig.state.crumple_limit - (c0 - 0.1)).abs() < 1e-9);
+        // Room again, then close again: another back-off of at most a tenth.
+        rig.limit_squeeze(SQUEEZE_STOP_M, 1.0);
+        for _ in 0..400 {
+            rig.limit_squeeze(1e-4, 1.0);
+            run(&mut rig, &sheet, &obs, &mut rng, 1);
+        }
+        let held = rig.state.smoothed[g.index()];
+        assert!((held - (c0 - 0.2)).abs() < 1e-9, "{held}");
+        // A sheet crossing itself backs off as far as it takes.
+        for _ in 0..2000 {
+            rig.limit_squeeze(0.0, 1.0);
+            run(&mut rig, &sheet, &obs, &mut rng, 1);
+        }
+        assert_eq!(rig.state.smoothed[g.index()], 0.0);
     }
 
     /// Pressing: with the squeeze held at its limit, the command's travel above the limit (up

@@ -49,9 +49,10 @@ pub const MAX_STRAIN: f64 = 1.0;
 /// Frames of a "hold still" phase: the shake stops and no other command comes.
 pub const HOLD_FRAMES: u64 = 600;
 /// In a hold, the sheet must be asleep this many frames after the rig (its gestures and its
-/// hands' travel) and the room stopped moving (2 s: the hostile stream leaves sheets flung at metres per second or dropped from a
-/// raised table, which take longer than the second a sheet held still by the user's gestures
-/// takes, `tests/rest.rs`).
+/// hands' travel), the room and a tear running under a held pull stopped moving (2 s: the
+/// hostile stream leaves sheets flung at metres per second or dropped from a raised table,
+/// which take longer than the second a sheet held still by the user's gestures takes,
+/// `tests/rest.rs`).
 pub const HOLD_SETTLE_FRAMES: u64 = 400;
 /// Largest strain of a sheet at rest in a hold.
 pub const HOLD_MAX_STRAIN: f64 = 0.1;
@@ -238,7 +239,7 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
     // Bursts: a busy phase (commands nearly every frame), a calm phase (rare commands, long
     // enough for the sheet to settle and sleep), a storm (many commands per frame), and a
     // hold: the shake stops, nothing else changes, and the sheet must come to rest (asleep
-    // within a second of the rig's last motion, silent and unstrained while asleep).
+    // within HOLD_SETTLE_FRAMES of the rig's last motion, silent and unstrained while asleep).
     let mut singular_pos: Vec<crate::math::V2> = Vec::new();
     let mut sheet_frame = 0u64;
     let mut tear_steps = 0u32;
@@ -351,8 +352,13 @@ pub fn run_with(cfg: &StressConfig, mut inspect: impl FnMut(u64, &Sim)) -> Stres
             // A table or wall still easing to where a room command put it is a change in
             // progress too, and so is a hand still travelling to its target (a hand crosses
             // 35 cm at 0.4 m/s on a 10 cm square: the travel clamp is 2 % of its length a
-            // frame).
-            if sim.rig().is_moving() || sim.rig().hands_travelling() || sim.obstacles().is_moving()
+            // frame). So is a tear running on under a held pull (the pull is a force: the tip
+            // runs while the criterion holds, sim/tear.rs) and the mesh step it announces.
+            let tearing = out.sound.tear.speed_m_s > 0.0 || sim.tear().pending;
+            if sim.rig().is_moving()
+                || sim.rig().hands_travelling()
+                || sim.obstacles().is_moving()
+                || tearing
             {
                 hold_moved_at = f;
             }

@@ -61,7 +61,17 @@ pub fn point_triangle(p: V3, t: [V3; 3]) -> (f64, [f64; 3]) {
     // Weights summing to exactly 1 and the point built from edge vectors: the point lies on
     // the triangle to f64 rounding (f32 weights applied to absolute positions would move it
     // off by ~10⁻⁷ of the coordinates).
-    let w = [1.0 - w[1] - w[2], w[1], w[2]];
+    // The f32 weights can sum past 1 (or, with a sliver, dip below 0) by f32 rounding: put back
+    // on the simplex, so the point lies on the triangle and the distance never falls below the
+    // exact lower bounds the queries prune with (plane, box and axis gaps), which would make a
+    // query's minimum depend on the order it meets the pairs.
+    let (w1, w2) = (w[1].max(0.0), w[2].max(0.0));
+    let (w1, w2) = if w1 + w2 > 1.0 {
+        (w1 / (w1 + w2), w2 / (w1 + w2))
+    } else {
+        (w1, w2)
+    };
+    let w = [(1.0 - w1 - w2).max(0.0), w1, w2];
     let q = t[0] + (t[1] - t[0]) * w[1] + (t[2] - t[0]) * w[2];
     ((p - q).norm(), w)
 }
@@ -73,9 +83,10 @@ pub fn segment_segment(a: [V3; 2], b: [V3; 2]) -> (f64, [f64; 2], [f64; 2]) {
     let [a0, a1] = a.map(|x| rel(x, o, k));
     let [b0, b1] = b.map(|x| rel(x, o, k));
     let (la, lb) = closest_points_segment_segment_with_locations_nD((&a0, &a1), (&b0, &b1));
+    // Kept on the segments (as the triangle's weights above).
     let (sa, sb) = (
-        f64::from(la.barycentric_coordinates()[1]),
-        f64::from(lb.barycentric_coordinates()[1]),
+        f64::from(la.barycentric_coordinates()[1]).clamp(0.0, 1.0),
+        f64::from(lb.barycentric_coordinates()[1]).clamp(0.0, 1.0),
     );
     let (wa, wb) = ([1.0 - sa, sa], [1.0 - sb, sb]);
     let pa = a[0] + (a[1] - a[0]) * sa;
@@ -479,6 +490,37 @@ mod tests {
         }
         // The bounds are not vacuous.
         assert!(p_used > 5_000 && l_used > 2_000, "{p_used} {l_used}");
+    }
+
+    /// The closest points lie on the features (weights on the simplex), so a distance is never
+    /// below the exact lower bounds the queries prune with: f32 weights that summed past 1 put
+    /// the point up to ~10⁻⁸ of an edge outside its triangle, and a closest-approach query then
+    /// found a smaller minimum when it met the pairs in another order (a sheet restored from a
+    /// save squeezed at another speed: stress seed 1039).
+    #[test]
+    fn closest_points_lie_on_their_features() {
+        let mut rng = Pcg32::seed_from_u64(29);
+        let mut on_edge = 0;
+        for i in 0..20_000 {
+            let s = 10f64.powf(-3.0 + 2.0 * f64::from(i % 100) / 100.0);
+            let t = [
+                rand_v3(&mut rng, s),
+                rand_v3(&mut rng, s),
+                rand_v3(&mut rng, s),
+            ];
+            let p = rand_v3(&mut rng, 2.0 * s);
+            let (_, w) = point_triangle(p, t);
+            assert!(w.iter().all(|&x| x >= 0.0), "{w:?}");
+            assert!(w[1] + w[2] <= 1.0 + 1e-15, "{w:?}");
+            on_edge += usize::from(w.contains(&0.0));
+            let (a, b) = (
+                [rand_v3(&mut rng, s), rand_v3(&mut rng, s)],
+                [rand_v3(&mut rng, s), rand_v3(&mut rng, s)],
+            );
+            let (_, wa, wb) = segment_segment(a, b);
+            assert!(wa.iter().chain(&wb).all(|x| (0.0..=1.0).contains(x)));
+        }
+        assert!(on_edge > 5_000, "{on_edge}");
     }
 
     #[test]

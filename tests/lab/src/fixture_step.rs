@@ -52,6 +52,20 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                 .map(|(i, v)| (i, v.norm()))
                 .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
             let c = sim.contacts()[v];
+            let n = sp
+                .triangles
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| t.contains(&(v as u32)))
+                .fold(sim_core::math::V3::zeros(), |a, (t, _)| {
+                    a + sp.tri_normal(t)
+                });
+            let normal_frac = if speed > 0.0 && n.norm() > 0.0 {
+                (sp.vel[v].dot(&n) / n.norm() / speed).abs()
+            } else {
+                0.0
+            };
+            println!("  normal fraction {normal_frac:.2}");
             println!(
                 "  fastest vertex {v} at {:.2} mm/s, pos {:?}, vel {:?}, held {:?}, contact {} {:?}, isometry {:.2e} m, asleep {}",
                 speed * 1e3,

@@ -18,7 +18,27 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
     let seeds: Vec<u64> = (first..first + n).collect();
     let one = |seed: u64| {
         let cfg = StressConfig::test_session(seed, frames);
-        (seed, run_with(&cfg, |_, _| {}).failure)
+        // The last frame a tear step was made or the vertex count changed (a hold that fails
+        // after one is a sheet moving on its own, not hands that disagree).
+        let (mut steps, mut verts, mut last_tear, mut last_mesh) = (0, 0, 0, 0);
+        let failure = run_with(&cfg, |f, sim| {
+            if sim.tear().mesh_steps != steps {
+                steps = sim.tear().mesh_steps;
+                last_tear = f;
+            }
+            if sim.sheet().sp.num_vertices() != verts {
+                verts = sim.sheet().sp.num_vertices();
+                last_mesh = f;
+            }
+        })
+        .failure
+        .map(|(f, why)| {
+            (
+                f,
+                format!("{why} [last tear step {last_tear}, mesh change {last_mesh}]"),
+            )
+        });
+        (seed, failure)
     };
     // Two workers, seeds taken in turn.
     let next = std::sync::atomic::AtomicUsize::new(0);
