@@ -1277,6 +1277,14 @@ mod tests {
         )
     }
 
+    /// The default room without its table.
+    fn no_table() -> Obstacles {
+        Obstacles::new(&RoomConfig {
+            table: false,
+            ..RoomConfig::default()
+        })
+    }
+
     fn run(
         rig: &mut GestureRig,
         sheet: &Sheet,
@@ -1322,10 +1330,7 @@ mod tests {
     fn a_hand_on_its_way_is_travelling_until_it_arrives() {
         let (sheet, mut rig, _, mut rng) = setup();
         // No table: the hand's target is not pushed back up to a table top.
-        let obs = Obstacles::new(&RoomConfig {
-            table: false,
-            ..RoomConfig::default()
-        });
+        let obs = no_table();
         rig.grab(GrabSlot::Front, 1.0, &sheet.sp.pos);
         run(&mut rig, &sheet, &obs, &mut rng, 20);
         assert!(!rig.is_moving() && !rig.hands_travelling(), "held still");
@@ -1349,10 +1354,7 @@ mod tests {
     #[test]
     fn a_slipping_hand_slides_along_the_table_not_into_it() {
         let (sheet, _, table, mut rng) = setup();
-        let no_table = Obstacles::new(&RoomConfig {
-            table: false,
-            ..RoomConfig::default()
-        });
+        let no_table = no_table();
         for (obs, on_table) in [(&table, true), (&no_table, false)] {
             let mut rig = GestureRig::new(&sheet, 0.75);
             rig.grab(GrabSlot::Back, 0.0, &sheet.sp.pos);
@@ -1393,10 +1395,7 @@ mod tests {
     #[test]
     fn a_hand_pulled_back_and_forth_gives_less_each_time() {
         let (sheet, mut rig, _, mut rng) = setup();
-        let obs = Obstacles::new(&RoomConfig {
-            table: false,
-            ..RoomConfig::default()
-        });
+        let obs = no_table();
         rig.grab(GrabSlot::Back, 0.0, &sheet.sp.pos);
         run(&mut rig, &sheet, &obs, &mut rng, 5);
         let no_strain = vec![0.0; sheet.sp.num_vertices()];
@@ -1516,10 +1515,7 @@ mod tests {
         // No table: the part of the patch behind the back finger dips as the hand pivots, and
         // a table would push the whole hand up.
         let (sheet, mut rig, _, mut rng) = setup();
-        let obs = Obstacles::new(&RoomConfig {
-            table: false,
-            ..RoomConfig::default()
-        });
+        let obs = no_table();
         rig.grab(GrabSlot::Left, 1.0, &sheet.sp.pos);
         rig.set_gesture(GestureParam::Lift, 0.5);
         run(&mut rig, &sheet, &obs, &mut rng, 300);
