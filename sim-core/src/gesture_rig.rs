@@ -48,8 +48,14 @@
 //!   grips one edge apart tear the paper between them as they move) and go when c is back
 //!   at 0. Point handles, because rigid patches of neighbouring
 //!   hands would collide as the ring shrinks ("Hands, grip and obstacles"); but a hand alone
-//!   on a piece torn off holds its 1-ring as a pinch, else the piece swings on it as a
-//!   pendulum nothing stops (docs/decisions.md, "Shake depth").
+//!   on a piece torn off (or sharing it with one other) holds its 1-ring as a pinch, else the
+//!   piece swings on it as a pendulum nothing stops (docs/decisions.md, "Shake depth").
+//!
+//! **Pieces held on one line.** A piece whose held vertices are fewer than three or on one
+//! line hangs as a pendulum or a hinge; once the hands are still, a hand holding a handle
+//! vertex on it takes back its ring there, where the paper is relaxed, and a piece held only by
+//! ring neighbours is let go ([`GestureRig::hold_hinged_pieces`]; docs/decisions.md, "A piece
+//! held on one line is held again"). At a tear step every hand takes the torn mesh's rings.
 //!
 //! Gesture values follow slew-rate limits derived from the travel clamp (a jump becomes a sweep:
 //! a twist jump turns the hands along arcs instead of through each other), then each pose is
@@ -368,6 +374,11 @@ pub struct GestureRig {
     length_m: f64,
     /// A hand travelled towards its target in the last frame ([`Self::hands_travelling`]).
     travelled: bool,
+    /// Per vertex, the piece of the sheet it is on (index into the pieces of its S_P; all 0
+    /// on a whole sheet), set when the mesh changes ([`Self::pinch_hinged_crumple_hands`]).
+    piece: Vec<u32>,
+    /// Number of pieces labelled in `piece`.
+    num_pieces: u32,
 }
 
 impl GestureRig {
@@ -393,6 +404,8 @@ impl GestureRig {
             width_m: sheet.width_m,
             length_m: sheet.length_m,
             travelled: false,
+            piece: Vec::new(),
+            num_pieces: 0,
         };
         rig.rebuild_geometry(sheet, home_z_m);
         rig
@@ -492,38 +505,149 @@ impl GestureRig {
     /// (a hinge); point handles hold no rotation, while fingers pinching paper hold its tangent
     /// plane. Three or more point handles on a piece hold it as a body. On a whole sheet every
     /// crumple hand shares the piece with seven others and stays a point (the ring shrinks
-    /// without neighbouring hands' patches colliding). Active hands whose grip changes re-anchor
-    /// where the sheet is. Allocates (the pieces): called only when the mesh changes.
+    /// without neighbouring hands' patches colliding). The ring is the torn mesh's (one taken
+    /// before the tear may reach across a lip); active hands whose grip changes re-anchor
+    /// where the sheet is. Also labels each vertex with its piece
+    /// ([`Self::hold_hinged_pieces`]). Allocates (the pieces): called only when the mesh
+    /// changes.
     pub fn pinch_hinged_crumple_hands(&mut self, sheet: &Sheet) {
         let pieces = sheet.sp.topo.pieces();
-        if pieces.len() < 2 {
-            return;
-        }
-        let mut label = vec![u32::MAX; sheet.sp.num_vertices()];
+        self.piece.clear();
+        self.piece.resize(sheet.sp.num_vertices(), 0);
         for (k, p) in pieces.iter().enumerate() {
             for &t in p {
                 for v in sheet.sp.triangles[t as usize] {
-                    label[v as usize] = k as u32;
+                    self.piece[v as usize] = k as u32;
                 }
             }
         }
+        self.num_pieces = pieces.len() as u32;
+        if pieces.len() < 2 {
+            return;
+        }
+        // Slot hands keep their handle vertices and take the torn mesh's rings around them.
+        for k in 0..NUM_SLOT_HANDS {
+            let d = self.info[k].def;
+            let mains = d.vertices[..d.num_mains as usize]
+                .iter()
+                .map(|&v| HandleDef::at_vertex(sheet, v));
+            let mut handles = [HandleDef::at_vertex(sheet, d.vertices[0]); 2];
+            let mut nh = 0;
+            for h in mains.take(2) {
+                handles[nh] = h;
+                nh += 1;
+            }
+            let def = HandDef::new(sheet, &handles[..nh]);
+            if def == d {
+                continue;
+            }
+            self.info[k].def = def;
+            if self.state.hands[k].active {
+                self.state.hands[k].reanchor(&def, &sheet.sp.pos);
+            }
+            self.ownership_dirty = true;
+        }
+        let label = &self.piece;
         let piece_of = |i: &HandInfo| label[i.def.vertices()[0] as usize];
         for k in NUM_SLOT_HANDS..NUM_HANDS {
             let own = piece_of(&self.info[k]);
             let others = (NUM_SLOT_HANDS..NUM_HANDS)
                 .filter(|&j| j != k && piece_of(&self.info[j]) == own)
                 .count();
-            if others > 1 || self.info[k].def.num_vertices > 1 {
+            if others > 1 {
                 continue;
             }
+            // The ring of the torn mesh (a ring taken before the tear may reach across a lip).
             let v = self.info[k].def.vertices()[0];
-            self.info[k].def = HandDef::new(sheet, &[HandleDef::at_vertex(sheet, v)]);
+            let def = HandDef::new(sheet, &[HandleDef::at_vertex(sheet, v)]);
+            if def == self.info[k].def {
+                continue;
+            }
+            self.info[k].def = def;
             if self.state.hands[k].active {
-                let def = self.info[k].def;
                 self.state.hands[k].reanchor(&def, &sheet.sp.pos);
             }
             self.ownership_dirty = true;
         }
+    }
+
+    /// A piece the hands hold at fewer than three points, or at points on one line, hangs
+    /// from them as a pendulum or swings about the line as a hinge, and a still hand does not
+    /// stop it (point holds carry no rotation). Once every hand is still, such a piece is held
+    /// as fingers hold paper: a hand holding one of its handle vertices on the piece takes back
+    /// the tangent-plane neighbours on the piece it let go of (misfit at the grab, strain
+    /// release, regrip), where they are now and only where the paper is relaxed (below half
+    /// the release strain, so a ring let go under strain is not taken back and let go again);
+    /// a piece held only by neighbour vertices (a fragment torn off next to a grip) is let go
+    /// and falls. `pattern` are the sheet's pattern positions, `vertex_strain` the largest
+    /// strain of each vertex's triangles, `spacing_m` the mesh's edge length (points within a
+    /// quarter of it of one line count as on it). Returns true if a grip changed. Allocates
+    /// nothing.
+    pub fn hold_hinged_pieces(
+        &mut self,
+        pattern: &[V2],
+        vertex_strain: &[f64],
+        spacing_m: f64,
+    ) -> bool {
+        let n = pattern.len();
+        if self.ownership_dirty
+            || self.travelled
+            || self.piece.len() != n
+            || vertex_strain.len() != n
+            || self.state.hands.iter().any(|h| h.active && h.slipping)
+        {
+            return false;
+        }
+        let mut changed = false;
+        for p in 0..self.num_pieces {
+            let mut pts = [V2::zeros(); NUM_HANDS * MAX_HAND_VERTICES];
+            let (mut m, mut main_held) = (0, false);
+            for &(v, k, j) in &self.ownership {
+                if self.piece[v as usize] == p && m < pts.len() {
+                    pts[m] = pattern[v as usize];
+                    m += 1;
+                    main_held |= j < self.info[k as usize].def.num_mains;
+                }
+            }
+            if m == 0 || !on_one_line(&pts[..m], 0.25 * spacing_m) {
+                continue;
+            }
+            for k in 0..NUM_HANDS {
+                let h = &self.state.hands[k];
+                if !h.active || self.suppressed[k] {
+                    continue;
+                }
+                let def = self.info[k].def;
+                let nm = def.num_mains as usize;
+                let holds_main_here = (0..nm).any(|j| {
+                    let v = def.vertices[j] as usize;
+                    self.piece[v] == p && self.claim[v] == k as u8
+                });
+                let h = &mut self.state.hands[k];
+                for j in 0..def.num_vertices as usize {
+                    let v = def.vertices[j] as usize;
+                    if self.piece[v] != p {
+                        continue;
+                    }
+                    if main_held {
+                        if holds_main_here
+                            && j >= nm
+                            && !h.holds(j)
+                            && self.claim[v] == u8::MAX
+                            && vertex_strain[v] <= 0.5 * STRAIN_RELEASE
+                        {
+                            h.mask |= 1 << j;
+                            changed = true;
+                        }
+                    } else if self.claim[v] == k as u8 && h.holds(j) {
+                        h.mask &= !(1u16 << j);
+                        changed = true;
+                    }
+                }
+            }
+        }
+        self.ownership_dirty |= changed;
+        changed
     }
 
     /// Sets the home height (the table top) the targets are measured from.
@@ -1176,6 +1300,28 @@ impl GestureRig {
     }
 }
 
+/// True if `pts` are fewer than three or all within `tol_m` of the line through the two of
+/// them farthest apart.
+fn on_one_line(pts: &[V2], tol_m: f64) -> bool {
+    let (mut a, mut b, mut far) = (0, 0, 0.0);
+    for i in 0..pts.len() {
+        for j in i + 1..pts.len() {
+            let d = (pts[j] - pts[i]).norm_squared();
+            if d > far {
+                (a, b, far) = (i, j, d);
+            }
+        }
+    }
+    if far <= tol_m * tol_m {
+        return true;
+    }
+    let dir = (pts[b] - pts[a]) / far.sqrt();
+    pts.iter().all(|q| {
+        let r = q - pts[a];
+        (r.x * dir.y - r.y * dir.x).abs() <= tol_m
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1560,6 +1706,67 @@ mod tests {
         assert!(!rig.state.crumple_active);
         assert_eq!(rig.num_active_hands(), 4, "corner hands back");
         assert!(!rig.is_moving());
+    }
+
+    #[test]
+    fn points_on_one_line_are_told_from_a_triangle() {
+        let p = |x: f64, y: f64| V2::new(x, y);
+        assert!(on_one_line(&[], 0.01));
+        assert!(on_one_line(&[p(0.0, 0.0)], 0.01));
+        assert!(on_one_line(&[p(0.0, 0.0), p(0.3, 0.1)], 0.01));
+        assert!(on_one_line(
+            &[p(0.0, 0.0), p(0.1, 0.005), p(0.2, 0.0)],
+            0.01
+        ));
+        assert!(!on_one_line(
+            &[p(0.0, 0.0), p(0.1, 0.02), p(0.2, 0.0)],
+            0.01
+        ));
+        assert!(!on_one_line(&[p(0.0, 0.0), p(0.0, 0.1), p(0.1, 0.0)], 0.01));
+    }
+
+    /// A sheet one hand holds at its two handle vertices only (its ring let go) swings about
+    /// the edge between them: once the hand is still it takes its ring back, where the paper
+    /// is relaxed; a sheet also held elsewhere is not touched.
+    #[test]
+    fn a_still_hand_holding_a_piece_on_one_line_takes_its_ring_back() {
+        let (sheet, mut rig, obs, mut rng) = setup();
+        let n = sheet.sp.num_vertices();
+        let spacing = MeshConfig::default().spacing_m(SheetSize::A4);
+        rig.grab(GrabSlot::Front, 1.0, &sheet.sp.pos);
+        run(&mut rig, &sheet, &obs, &mut rng, 3);
+        assert!(!rig.is_moving());
+        let front = 1;
+        let full = rig.state.hands[front].mask;
+        let mains = (1u16 << rig.info[front].def.num_mains) - 1;
+        assert!(full != mains, "the front edge's hand holds a ring");
+        let let_go = |rig: &mut GestureRig, rng: &mut rand_pcg::Pcg32| {
+            for h in &mut rig.state.hands {
+                if h.active {
+                    h.mask &= (1u16 << rig.info[0].def.num_mains.max(2)) - 1;
+                }
+            }
+            rig.ownership_dirty = true;
+            run(rig, &sheet, &obs, rng, 1);
+        };
+        let_go(&mut rig, &mut rng);
+        assert_eq!(rig.state.hands[front].mask, mains);
+        // Strained paper is not taken back.
+        let strained = vec![0.05; n];
+        assert!(!rig.hold_hinged_pieces(&sheet.sp.pattern, &strained, spacing));
+        assert_eq!(rig.state.hands[front].mask, mains);
+        let relaxed = vec![0.0; n];
+        assert!(rig.hold_hinged_pieces(&sheet.sp.pattern, &relaxed, spacing));
+        assert_eq!(rig.state.hands[front].mask, full, "the ring is held again");
+        run(&mut rig, &sheet, &obs, &mut rng, 1);
+        assert!(!rig.hold_hinged_pieces(&sheet.sp.pattern, &relaxed, spacing));
+        // The back edge held too: four handle vertices, not on one line.
+        rig.grab(GrabSlot::Back, 1.0, &sheet.sp.pos);
+        run(&mut rig, &sheet, &obs, &mut rng, 3);
+        let_go(&mut rig, &mut rng);
+        assert_eq!(rig.state.hands[front].mask, mains);
+        assert!(!rig.hold_hinged_pieces(&sheet.sp.pattern, &relaxed, spacing));
+        assert_eq!(rig.state.hands[front].mask, mains);
     }
 
     #[test]

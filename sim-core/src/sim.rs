@@ -856,6 +856,11 @@ impl Sim {
                 frame_scale,
                 &self.obstacles,
             );
+            self.rig.hold_hinged_pieces(
+                &self.sheet.sp.pattern,
+                &self.vertex_strain,
+                self.cfg.mesh.spacing_m(self.cfg.size),
+            );
         }
         self.phase_ns.physics_ns = self.stopwatch.lap_ns();
         if self.cfg.geometry.enabled {

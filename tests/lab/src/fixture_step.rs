@@ -5,7 +5,9 @@
 //!
 //! `cargo run --release -p papier-lab -- fixture-step STATE.json [FRAMES]` (default 3 frames);
 //! `NOGEOM=1` steps with the geometry layer off, `STATS=1` prints each frame's whole stats,
-//! `TEST_SESSION=1` steps with the test suite's stress session's configuration.
+//! `TEST_SESSION=1` steps with the test suite's stress session's configuration,
+//! `NOSHEETCONTACT=1` without sheet–sheet contact; `PIECES=1` lists each piece of the sheet
+//! after the last frame (triangles, vertices, fastest speed, held vertices and their hands).
 
 use anyhow::Context;
 use sim_core::sim::{FrameOutput, SavedSheet, SimConfig};
@@ -35,6 +37,9 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
         SimConfig::default()
     };
     cfg.geometry.enabled = std::env::var("NOGEOM").is_err();
+    if std::env::var("NOSHEETCONTACT").is_ok() {
+        cfg.solver.sheet_contact = false;
+    }
     let mut sim = fixture.restore(cfg).context("restoring the sheet")?;
     let mut out = FrameOutput::default();
     for k in 1..=frames {
@@ -77,6 +82,31 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                 sim.geometry().isometry.max_disp_m,
                 s.asleep
             );
+        }
+        if std::env::var("PIECES").is_ok() && k == frames {
+            let sp = &sim.sheet().sp;
+            for (i, tris) in sp.topo.pieces().iter().enumerate() {
+                let mut verts: Vec<u32> = tris
+                    .iter()
+                    .flat_map(|&t| sp.triangles[t as usize])
+                    .collect();
+                verts.sort_unstable();
+                verts.dedup();
+                let held: Vec<(u32, usize)> = verts
+                    .iter()
+                    .filter_map(|&v| sim.rig().hand_of(v).map(|h| (v, h)))
+                    .collect();
+                let vmax = verts
+                    .iter()
+                    .map(|&v| sp.vel[v as usize].norm())
+                    .fold(0.0, f64::max);
+                println!(
+                    "  piece {i}: {} triangles, {} vertices, vmax {:.1} mm/s, held {held:?}",
+                    tris.len(),
+                    verts.len(),
+                    vmax * 1e3
+                );
+            }
         }
         println!(
             "+{k}: strain {:.3}, halvings {}, iterations {}, pinned {}, held back {}, split {}, flipped {}",
