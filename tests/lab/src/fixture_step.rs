@@ -7,7 +7,9 @@
 //! `NOGEOM=1` steps with the geometry layer off, `STATS=1` prints each frame's whole stats,
 //! `TEST_SESSION=1` steps with the test suite's stress session's configuration,
 //! `NOSHEETCONTACT=1` without sheet–sheet contact; `PIECES=1` lists each piece of the sheet
-//! after the last frame (triangles, vertices, fastest speed, held vertices and their hands).
+//! after the last frame (triangles, vertices, fastest speed, held vertices and their hands);
+//! `CROSSINGS=1` lists each frame's crossing triangle pairs (how many between pieces) and the
+//! closest approach.
 
 use anyhow::Context;
 use sim_core::sim::{FrameOutput, SavedSheet, SimConfig};
@@ -81,6 +83,27 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                 c.obstacle,
                 sim.geometry().isometry.max_disp_m,
                 s.asleep
+            );
+        }
+        if std::env::var("CROSSINGS").is_ok() {
+            let sp = &sim.sheet().sp;
+            let mut prox = sim_core::self_proximity::SelfProximity::new();
+            let mut pairs = Vec::new();
+            prox.for_each_crossing(sp, |a, b| pairs.push((a, b)));
+            let closest = prox.closest_approach_m(sp, 0.01);
+            let mut piece = vec![0usize; sp.num_triangles()];
+            for (i, tris) in sp.topo.pieces().iter().enumerate() {
+                for &t in tris {
+                    piece[t as usize] = i;
+                }
+            }
+            let across = pairs
+                .iter()
+                .filter(|(a, b)| piece[*a as usize] != piece[*b as usize])
+                .count();
+            println!(
+                "  crossings {pairs:?} ({across} between pieces), closest {:.3} mm",
+                closest * 1e3
             );
         }
         if std::env::var("PIECES").is_ok() && k == frames {
