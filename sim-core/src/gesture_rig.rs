@@ -375,7 +375,7 @@ pub struct GestureRig {
     /// A hand travelled towards its target in the last frame ([`Self::hands_travelling`]).
     travelled: bool,
     /// Per vertex, the piece of the sheet it is on (index into the pieces of its S_P; all 0
-    /// on a whole sheet), set when the mesh changes ([`Self::pinch_hinged_crumple_hands`]).
+    /// on a whole sheet), set when the mesh changes ([`Self::fit_grips_to_pieces`]).
     piece: Vec<u32>,
     /// Number of pieces labelled in `piece`.
     num_pieces: u32,
@@ -476,7 +476,7 @@ impl GestureRig {
                 slide: V2::zeros(),
             };
         }
-        self.pinch_hinged_crumple_hands(sheet);
+        self.fit_grips_to_pieces(sheet);
         if self.claim.len() != sheet.sp.num_vertices() {
             self.claim = vec![u8::MAX; sheet.sp.num_vertices()];
             self.prev_claim = vec![u8::MAX; sheet.sp.num_vertices()];
@@ -499,45 +499,30 @@ impl GestureRig {
         self.ownership_dirty = true;
     }
 
-    /// A crumple hand that shares its piece of a torn sheet with at most one other crumple hand
-    /// holds its handle's 1-ring as a pinch instead of the bare point: a piece hanging from one
+    /// Fits the hands' grips to the pieces of the sheet: labels each vertex with its piece
+    /// ([`Self::hold_hinged_pieces`]); on a torn sheet, every slot hand takes the torn mesh's
+    /// rings around its handle vertices, and a crumple hand that shares its piece with at most
+    /// one other crumple hand holds its handle's 1-ring as a pinch instead of the bare point: a piece hanging from one
     /// point is a pendulum, and one hanging from two points swings about the line through them
     /// (a hinge); point handles hold no rotation, while fingers pinching paper hold its tangent
     /// plane. Three or more point handles on a piece hold it as a body. On a whole sheet every
     /// crumple hand shares the piece with seven others and stays a point (the ring shrinks
     /// without neighbouring hands' patches colliding). The ring is the torn mesh's (one taken
     /// before the tear may reach across a lip); active hands whose grip changes re-anchor
-    /// where the sheet is. Also labels each vertex with its piece
-    /// ([`Self::hold_hinged_pieces`]). Allocates (the pieces): called only when the mesh
-    /// changes.
-    pub fn pinch_hinged_crumple_hands(&mut self, sheet: &Sheet) {
-        let pieces = sheet.sp.topo.pieces();
-        self.piece.clear();
-        self.piece.resize(sheet.sp.num_vertices(), 0);
-        for (k, p) in pieces.iter().enumerate() {
-            for &t in p {
-                for v in sheet.sp.triangles[t as usize] {
-                    self.piece[v as usize] = k as u32;
-                }
-            }
-        }
-        self.num_pieces = pieces.len() as u32;
-        if pieces.len() < 2 {
+    /// where the sheet is. Allocates (the pieces): called only when the mesh changes.
+    pub fn fit_grips_to_pieces(&mut self, sheet: &Sheet) {
+        let (piece, num_pieces) = sheet.sp.topo.vertex_pieces();
+        self.piece = piece;
+        self.num_pieces = num_pieces as u32;
+        if num_pieces < 2 {
             return;
         }
         // Slot hands keep their handle vertices and take the torn mesh's rings around them.
         for k in 0..NUM_SLOT_HANDS {
             let d = self.info[k].def;
-            let mains = d.vertices[..d.num_mains as usize]
-                .iter()
-                .map(|&v| HandleDef::at_vertex(sheet, v));
-            let mut handles = [HandleDef::at_vertex(sheet, d.vertices[0]); 2];
-            let mut nh = 0;
-            for h in mains.take(2) {
-                handles[nh] = h;
-                nh += 1;
-            }
-            let def = HandDef::new(sheet, &handles[..nh]);
+            let nm = usize::from(d.num_mains).clamp(1, 2);
+            let handles = [0, nm - 1].map(|j| HandleDef::at_vertex(sheet, d.vertices[j]));
+            let def = HandDef::new(sheet, &handles[..nm]);
             if def == d {
                 continue;
             }

@@ -296,6 +296,30 @@ impl Topology {
         out
     }
 
+    /// The piece of each vertex (its index in [`Self::pieces`]; 0 for a vertex on no
+    /// triangle) and the number of pieces.
+    pub fn vertex_pieces(&self) -> (Vec<u32>, usize) {
+        let pieces = self.pieces();
+        let mut of_triangle = vec![0u32; self.num_triangles()];
+        for (k, p) in pieces.iter().enumerate() {
+            for &t in p {
+                of_triangle[t as usize] = k as u32;
+            }
+        }
+        let of_vertex = self
+            .vertex_he
+            .iter()
+            .map(|&h| {
+                if h == NONE {
+                    0
+                } else {
+                    of_triangle[(h / 3) as usize]
+                }
+            })
+            .collect();
+        (of_vertex, pieces.len())
+    }
+
     /// Checks what a torn sheet keeps: every vertex's triangles form one fan (no bow-tie
     /// vertex) and every piece is a disc (χ = V − E + F = 1). Returns the number of pieces.
     pub fn validate_pieces(&self) -> Result<usize, String> {
@@ -439,6 +463,7 @@ mod tests {
         let two = [[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]];
         let t = Topology::build(8, &two).unwrap();
         assert_eq!(t.pieces(), vec![vec![0, 1], vec![2, 3]]);
+        assert_eq!(t.vertex_pieces().1, 2);
         assert_eq!(t.validate_pieces(), Ok(2));
         // Two triangles meeting only at vertex 0: one vertex, two fans.
         let bow_tie = [[0, 1, 2], [0, 3, 4]];

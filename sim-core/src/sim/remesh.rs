@@ -167,7 +167,7 @@ impl Sim {
         let (ownership, suppressed, pending) = self.rig.ownership_state();
         rig.restore_ownership(&ownership, suppressed, pending, false)?;
         if keep_hand_defs {
-            rig.pinch_hinged_crumple_hands(&sheet);
+            rig.fit_grips_to_pieces(&sheet);
         }
         // Old vertices keep their index: the contact boosts follow them.
         let mut physics = Physics::new(&sheet.sp);
