@@ -84,6 +84,7 @@ fn analysis_us(name: &str, spacing_frac: f64) -> (f64, f64, usize, usize) {
                 dt_s: 0.005,
                 planes: &sim.obstacles().planes,
                 pressed_m: 0.0,
+                layer_slip: sim.layer_slip(),
             },
             &mut sound,
         );

@@ -364,6 +364,12 @@ impl Physics {
         self.frame.sheet.boost_crossing(a, b);
     }
 
+    /// The sheet–sheet contact pairs of the last substep ([`sheet_contact`]; empty when it is
+    /// off or no substep has run since the mesh was made).
+    pub fn sheet_pairs(&self) -> &[sheet_contact::SheetPair] {
+        self.frame.sheet.pairs()
+    }
+
     /// The active contact boosts (saved with the sheet).
     pub fn contact_boosts(&self) -> &[sheet_contact::Boost] {
         self.frame.sheet.boosts()

@@ -27,7 +27,9 @@
 //!    then what is still strained beyond 8 % is projected back (beyond the seeds:
 //!    [`crate::physics::strain_limit`]), the hands regripping the held vertices it moved;
 //! 5. while squeezing, a frame that passed the sheet through itself is undone (below);
-//! 6. contacts (flag, obstacle, slip speed, normal force) and metrics are updated;
+//! 6. contacts (flag, obstacle, slip speed, normal force), the layers' slip on each other (the
+//!    last substep's sheet–sheet pairs, [`crate::physics::sheet_contact::layer_slip`]) and the
+//!    metrics are updated;
 //! 7. the sound analysis ([`crate::sound_analysis`]) turns the frame's curvature flips, new
 //!    singular vertices and sliding contacts into crumple and friction events with their
 //!    resonators, written to the frame's [`SoundFrame`], and the statistics are written.
@@ -334,6 +336,8 @@ pub struct Sim {
     /// The strain limit's scratch (physics/strain_limit.rs).
     strain_limit: crate::physics::strain_limit::StrainLimit,
     contacts: Vec<VertexContact>,
+    /// Per vertex, its slip on another layer it is pressed on, m/s (−1: none; `update_contacts`).
+    layer_slip: Vec<f32>,
     metrics: MetricsTracker,
     last_metrics: Metrics,
     asleep: bool,
@@ -458,6 +462,7 @@ impl Sim {
                 mesh_capacity.1,
             ),
             contacts: vec![VertexContact::default(); n],
+            layer_slip: vec![-1.0; n],
             metrics,
             last_metrics: Metrics::default(),
             asleep: false,
@@ -562,6 +567,12 @@ impl Sim {
     /// Per-vertex contacts after the last frame (same indexing as the S_P vertices).
     pub fn contacts(&self) -> &[VertexContact] {
         &self.contacts
+    }
+
+    /// Per S_P vertex, how fast it slid on another layer it was pressed on at the end of the
+    /// last frame, m/s; negative where it was pressed on none (the layers' friction sound).
+    pub fn layer_slip(&self) -> &[f32] {
+        &self.layer_slip
     }
 
     /// Counts of the last frame's sound analysis (events by kind, vibration regions).
@@ -928,6 +939,7 @@ impl Sim {
                 dt_s: dt,
                 planes: &self.obstacles.planes,
                 pressed_m: self.rig.take_press_m(frame_scale),
+                layer_slip: &self.layer_slip,
             },
             &mut out.sound,
         );
@@ -1003,6 +1015,15 @@ impl Sim {
                 }
             }
         }
+        // Layers pressed on each other: the last substep's pairs still within d̂ (the layers'
+        // friction sound).
+        self.layer_slip.resize(sp.num_vertices(), -1.0);
+        crate::physics::sheet_contact::layer_slip(
+            self.physics.sheet_pairs(),
+            &sp.pos,
+            &sp.vel,
+            &mut self.layer_slip,
+        );
     }
 
     fn stats(&self, asleep: bool, substeps: u32, iterations: u32, recoveries: u32) -> FrameStats {

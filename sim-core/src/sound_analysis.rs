@@ -40,7 +40,9 @@
 //!    clac on the constrained cell whose amplitude is the impacting area × speed.
 //! 5. **Friction events** ([`friction_events`]): connected components of S_P vertices in contact
 //!    with an obstacle (T 1770); the amplitude is the mean tangential slip speed relative to the
-//!    obstacle (S 153). Components slower than 2 mm/s are still (no sound).
+//!    obstacle (S 153). Components slower than 2 mm/s are still (no sound). Beyond the seeds,
+//!    the sheet's layers pressed on each other rub the same way (`AnalysisInput::layer_slip`,
+//!    the sheet–sheet contact pairs' relative slip): a crumple's layers sliding are heard.
 //!
 //! ## Resonators (T 1782–1810, S 130–143; [`resonators`])
 //!
@@ -171,6 +173,10 @@ pub struct AnalysisInput<'a> {
     /// The crumple hands' closing this frame that the squeeze, held at its limit, did not
     /// follow, metres summed over the hands (the press, [`crackle`]).
     pub pressed_m: f64,
+    /// Per vertex, the tangential speed at which it slides on another layer of the sheet it is
+    /// pressed on, m/s; negative: not pressed on a layer (same indexing as S_P; empty: no
+    /// layers rub, [`friction_events`]).
+    pub layer_slip: &'a [f32],
 }
 
 /// Counts of one frame's analysis (meters, reports, tests).
@@ -184,6 +190,8 @@ pub struct AnalysisStats {
     pub impact_events: u32,
     /// Sliding contact regions.
     pub friction_events: u32,
+    /// Sliding regions of the sheet on its own layers.
+    pub layer_friction_events: u32,
     /// Grid points that flipped this frame.
     pub flipped_points: u32,
     /// Crumple events quieter than the minimum amplitude (dropped).
@@ -468,6 +476,15 @@ impl SoundAnalysis {
             &cfg,
             out,
         );
+        self.stats.layer_friction_events = self.friction.detect_layers(
+            sp,
+            &self.curvature,
+            &self.regions,
+            &mut self.finder,
+            input,
+            &cfg,
+            out,
+        );
     }
 }
 
@@ -477,6 +494,7 @@ mod tests {
     use crate::collision::VertexContact;
     use crate::math::{V2, V3};
     use crate::sheet::pattern::Pattern;
+    use crate::sound_input::Obstacle;
 
     /// A square-grid pattern of `n × n` cells over `[−s/2, s/2]²` (diagonals alternate).
     fn grid_sheet(size_m: f64, n: usize) -> PhysMesh {
@@ -543,6 +561,7 @@ mod tests {
                 dt_s: 0.0,
                 planes: &[],
                 pressed_m: 0.0,
+                layer_slip: &[],
             },
             &mut out,
         );
@@ -699,6 +718,7 @@ mod tests {
             dt_s: 0.0,
             planes: &[],
             pressed_m: 0.0,
+            layer_slip: &[],
         };
         an.analyze(&input, &mut out);
         an.finder.begin();
@@ -746,6 +766,7 @@ mod tests {
                 dt_s: 0.0,
                 planes: &[],
                 pressed_m: 0.0,
+                layer_slip: &[],
             };
             an.analyze(&input, &mut SoundFrame::default());
             assert_eq!(an.regions.num_regions(), 1);
@@ -791,6 +812,7 @@ mod tests {
             dt_s: 0.0,
             planes: &[],
             pressed_m: 0.0,
+            layer_slip: &[],
         };
         let mut out = SoundFrame::default();
         an.analyze(&input, &mut out);
@@ -817,6 +839,7 @@ mod tests {
             dt_s: 0.0,
             planes: &[],
             pressed_m: 0.0,
+            layer_slip: &[],
         };
         an.analyze(&input, &mut out);
         let t = (0..sp.num_triangles() as u32)
@@ -882,6 +905,7 @@ mod tests {
                 dt_s: 0.0,
                 planes: &[],
                 pressed_m: 0.0,
+                layer_slip: &[],
             };
             an.analyze(&input, &mut SoundFrame::default());
             let t = (0..sp.num_triangles())
@@ -973,6 +997,7 @@ mod tests {
                 dt_s: 0.0,
                 planes: &[],
                 pressed_m: 0.0,
+                layer_slip: &[],
             },
             &mut out,
         );
@@ -1002,6 +1027,7 @@ mod tests {
                 dt_s: 0.0,
                 planes: &[],
                 pressed_m: 0.0,
+                layer_slip: &[],
             },
             &mut out,
         );
@@ -1027,9 +1053,77 @@ mod tests {
                 dt_s: 0.0,
                 planes: &[],
                 pressed_m: 0.0,
+                layer_slip: &[],
             },
             &mut out,
         );
+        assert!(out.friction().is_empty());
+    }
+
+    /// A layer sliding on another rubs like the table (beyond the seeds): a set of vertices
+    /// pressed on a layer is one friction source at its mean slip; where they touch the table
+    /// they rub there instead; a layer resting on another is silent.
+    #[test]
+    fn layers_sliding_on_each_other_rub() {
+        let (size, n) = (0.2, 20);
+        let sp = grid_sheet(size, n);
+        let nv = sp.num_vertices();
+        let held = vec![false; nv];
+        let mut contacts = vec![VertexContact::default(); nv];
+        // The x > 0.05 strip is pressed on another layer: slip 4 cm/s, 2 cm/s on its edge.
+        let mut slip = vec![-1.0f32; nv];
+        for (v, p) in sp.pattern.iter().enumerate() {
+            if p.x > 0.05 {
+                slip[v] = if p.x > 0.06 { 0.04 } else { 0.02 };
+            }
+        }
+        let mut an = analysis_for(&sp, size);
+        let run = |an: &mut SoundAnalysis, contacts: &[VertexContact], slip: &[f32]| {
+            let mut out = SoundFrame::default();
+            an.analyze(
+                &AnalysisInput {
+                    sp: &sp,
+                    contacts,
+                    held: &held,
+                    time_s: 0.0,
+                    vel_start: &[],
+                    dt_s: 0.0,
+                    planes: &[],
+                    pressed_m: 0.0,
+                    layer_slip: slip,
+                },
+                &mut out,
+            );
+            out
+        };
+        let out = run(&mut an, &contacts, &slip);
+        assert_eq!(an.stats().layer_friction_events, 1);
+        assert_eq!(an.stats().friction_events, 0);
+        let f = out.friction()[0];
+        assert_eq!(f.obstacle, Obstacle::SelfContact);
+        let (strip, edge) = (
+            sp.pattern.iter().filter(|p| p.x > 0.05).count(),
+            sp.pattern
+                .iter()
+                .filter(|p| p.x > 0.05 && p.x <= 0.06)
+                .count(),
+        );
+        let mean = (0.04 * (strip - edge) as f64 + 0.02 * edge as f64) / strip as f64;
+        assert!((f64::from(f.slip_speed_m_s) - mean).abs() < 1e-6, "{f:?}");
+        // The strip lies on the table: it rubs on the table, not on the layer.
+        for (c, p) in contacts.iter_mut().zip(&sp.pattern) {
+            c.in_contact = p.x > 0.05;
+            c.slip_speed_m_s = 0.01;
+        }
+        let out = run(&mut an, &contacts, &slip);
+        assert_eq!(an.stats().layer_friction_events, 0);
+        assert!(out.friction().iter().all(|f| f.obstacle == Obstacle::Table));
+        // Pressed on the layer and still (or slower than the slowest audible rub): silent.
+        contacts.fill(VertexContact::default());
+        slip.iter_mut()
+            .filter(|s| **s >= 0.0)
+            .for_each(|s| *s = 0.001);
+        let out = run(&mut an, &contacts, &slip);
         assert!(out.friction().is_empty());
     }
 

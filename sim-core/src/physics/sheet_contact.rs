@@ -564,6 +564,39 @@ fn edge_edge(
     })
 }
 
+/// Share of a pair a stencil vertex must carry (|w_i|) to count as sliding with it.
+const SLIDING_WEIGHT: f64 = 0.25;
+
+/// How fast each vertex slides on another layer it is pressed on (the layers' friction sound,
+/// `sound_analysis/friction_events.rs`): for every pair of `pairs` still within d̂ at positions
+/// `x`, its relative tangential speed |(I − n nᵀ) Σ w_i v_i| (the weights sum to 0, so this is
+/// the vertex's or edge point's speed relative to the other layer), given to each stencil vertex
+/// that carries at least a quarter of the pair, the fastest of its pairs. `out[v]` is negative
+/// where a vertex is pressed on no layer. Pairs naming vertices beyond `x` (a stale pair set
+/// after a mesh change) are skipped.
+pub fn layer_slip(pairs: &[SheetPair], x: &[V3], vel: &[V3], out: &mut [f32]) {
+    out.fill(-1.0);
+    let n = x.len().min(vel.len()).min(out.len());
+    for pair in pairs {
+        if pair.v.iter().any(|&v| v as usize >= n) || pair.gap_m(x) >= SHEET_CONTACT_DIST_M {
+            continue;
+        }
+        let rel: V3 = pair
+            .v
+            .iter()
+            .zip(&pair.w)
+            .map(|(&v, &w)| vel[v as usize] * w)
+            .sum();
+        let slip = (rel - pair.n * rel.dot(&pair.n)).norm() as f32;
+        for (&v, &w) in pair.v.iter().zip(&pair.w) {
+            if w.abs() >= SLIDING_WEIGHT {
+                let s = &mut out[v as usize];
+                *s = s.max(slip);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -584,6 +617,50 @@ mod tests {
             }
         }
         s
+    }
+
+    #[test]
+    fn layers_pressed_together_slide_at_their_relative_tangential_speed() {
+        let s = folded_sheet();
+        let mut c = SheetContact::new(&s.sp);
+        c.find(&s.sp, MIN_REACH_M);
+        assert!(!c.pairs().is_empty());
+        let n = s.sp.num_vertices();
+        let top = |i: usize| s.sp.pos[i].z > 0.5e-3;
+        let mut out = vec![0.0f32; n];
+        // The top layer slides along y at 5 cm/s and sinks at 3 cm/s; the bottom one is still.
+        let vel: Vec<V3> = (0..n)
+            .map(|i| {
+                if top(i) {
+                    V3::new(0.0, 0.05, -0.03)
+                } else {
+                    V3::zeros()
+                }
+            })
+            .collect();
+        layer_slip(c.pairs(), &s.sp.pos, &vel, &mut out);
+        let pressed: Vec<usize> = (0..n).filter(|&i| out[i] >= 0.0).collect();
+        assert!(pressed.iter().any(|&i| top(i)) && pressed.iter().any(|&i| !top(i)));
+        // Vertices well inside both layers see the slip; the sinking does not count (an edge
+        // pair's normal may lean a little: 2 %).
+        let inner = |i: usize| s.sp.pos[i].x > 0.03 && s.sp.pos[i].y.abs() < 0.1;
+        let inside: Vec<usize> = pressed.iter().copied().filter(|&i| inner(i)).collect();
+        assert!(inside.len() > 10, "{}", inside.len());
+        for &i in &inside {
+            assert!((out[i] - 0.05).abs() < 1e-3, "vertex {i}: {}", out[i]);
+        }
+        // Both layers moving together do not slide; nothing is pressed once they part.
+        let together = vec![V3::new(0.0, 0.05, -0.01); n];
+        layer_slip(c.pairs(), &s.sp.pos, &together, &mut out);
+        assert!(out.iter().all(|&v| v < 1e-9));
+        let mut apart = s.sp.pos.clone();
+        for (i, p) in apart.iter_mut().enumerate() {
+            if top(i) {
+                p.z += 0.01;
+            }
+        }
+        layer_slip(c.pairs(), &apart, &vel, &mut out);
+        assert!(out.iter().all(|&v| v < 0.0));
     }
 
     #[test]

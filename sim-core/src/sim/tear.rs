@@ -529,6 +529,7 @@ impl super::Sim {
                         dt_s: 0.0,
                         planes: &[],
                         pressed_m: 0.0,
+                        layer_slip: &[],
                     },
                     self.tear.mesh_tip,
                     tip_tri,

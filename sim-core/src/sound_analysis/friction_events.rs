@@ -14,6 +14,15 @@
 //! ring and rub as a single source. A set with no such rim (the sheet lies flat) is one
 //! constrained resonator made of its pressed triangles: the seeds' quiet, nearly white
 //! "constrained friction" (T 1704).
+//!
+//! **Layers rubbing on each other (beyond the seeds).** The seeds hear friction only against
+//! the table (T 1770); in a real crumple the layers of the sheet slide over each other and rub.
+//! [`FrictionFinder::detect_layers`] makes the same sets from the vertices pressed on another
+//! layer (`AnalysisInput::layer_slip`: the tangential speed of their sheet–sheet contact pairs,
+//! [`crate::physics::sheet_contact`]), each set rubbing as [`Obstacle::SelfContact`] through
+//! the same resonators and the same friction spectra as the table (no paper-on-paper
+//! recordings: an approximation). The contact between layers is frictionless in the physics,
+//! so a layer slides as far as its contact lets it; the speed heard is that slip.
 
 use crate::sheet::physical::PhysMesh;
 use crate::sheet::topology::NONE;
@@ -43,8 +52,8 @@ impl FrictionFinder {
         }
     }
 
-    /// Finds the sliding contact sets, appends their friction sources to `out` and returns the
-    /// number of sliding sets.
+    /// Finds the sliding contact sets on the obstacles, appends their friction sources to `out`
+    /// and returns the number of sliding sets.
     #[allow(clippy::too_many_arguments)]
     pub fn detect(
         &mut self,
@@ -56,8 +65,56 @@ impl FrictionFinder {
         cfg: &AnalysisConfig,
         out: &mut SoundFrame,
     ) -> u32 {
-        let nv = sp.num_vertices().min(input.contacts.len());
-        let touching = |v: usize| input.contacts.get(v).is_some_and(|c| c.in_contact);
+        let at = |v: usize| {
+            input
+                .contacts
+                .get(v)
+                .filter(|c| c.in_contact)
+                .map(|c| (c.slip_speed_m_s, c.obstacle))
+        };
+        self.detect_sets(sp, curv, regions, finder, input, cfg, at, out)
+    }
+
+    /// Finds the sets of vertices pressed on another layer of the sheet and sliding on it
+    /// (`AnalysisInput::layer_slip`; vertices touching an obstacle rub there instead), appends
+    /// their friction sources to `out` and returns the number of sliding sets.
+    #[allow(clippy::too_many_arguments)]
+    pub fn detect_layers(
+        &mut self,
+        sp: &PhysMesh,
+        curv: &Curvature,
+        regions: &VibrationRegions,
+        finder: &mut ResonatorFinder,
+        input: &AnalysisInput<'_>,
+        cfg: &AnalysisConfig,
+        out: &mut SoundFrame,
+    ) -> u32 {
+        let at = |v: usize| {
+            let on_obstacle = input.contacts.get(v).is_some_and(|c| c.in_contact);
+            input
+                .layer_slip
+                .get(v)
+                .filter(|s| **s >= 0.0 && !on_obstacle)
+                .map(|s| (*s, Obstacle::SelfContact))
+        };
+        self.detect_sets(sp, curv, regions, finder, input, cfg, at, out)
+    }
+
+    /// Connected sets of the vertices where `at` gives (slip speed, obstacle).
+    #[allow(clippy::too_many_arguments)]
+    fn detect_sets(
+        &mut self,
+        sp: &PhysMesh,
+        curv: &Curvature,
+        regions: &VibrationRegions,
+        finder: &mut ResonatorFinder,
+        input: &AnalysisInput<'_>,
+        cfg: &AnalysisConfig,
+        at: impl Fn(usize) -> Option<(f32, Obstacle)>,
+        out: &mut SoundFrame,
+    ) -> u32 {
+        let nv = sp.num_vertices();
+        let touching = |v: usize| at(v).is_some();
         self.label.clear();
         self.label.resize(nv, NONE);
         let mut events = 0u32;
@@ -74,9 +131,9 @@ impl FrictionFinder {
             let mut counts = [0u32; 4];
             while let Some(v) = self.stack.pop() {
                 self.members.push(v);
-                let c = input.contacts[v as usize];
-                speed += f64::from(c.slip_speed_m_s);
-                counts[obstacle_index(c.obstacle)] += 1;
+                let (slip, obstacle) = at(v as usize).unwrap_or_default();
+                speed += f64::from(slip);
+                counts[obstacle_index(obstacle)] += 1;
                 for &w in sp.topo.neighbours(v) {
                     let w = w as usize;
                     if w < nv && touching(w) && self.label[w] == NONE {

@@ -21,6 +21,7 @@ mod hold_probe;
 mod insert_probe;
 mod iso_conv;
 mod iter_hist;
+mod layer_probe;
 mod octaves;
 mod play;
 mod rest_family;
@@ -119,6 +120,12 @@ const COMMANDS: &[Command] = &[
         about: "the octave profile and centroid of rendered WAV files, as a table and a PNG",
         usage: octaves::USAGE,
         run: octaves::run,
+    },
+    Command {
+        name: "layer-probe",
+        about: "the layers' friction sources of a scene per 0.25 s: how many, their slip and size",
+        usage: layer_probe::USAGE,
+        run: layer_probe::run,
     },
     Command {
         name: "sound-hash",
