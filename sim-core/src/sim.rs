@@ -101,13 +101,17 @@
 //!
 //! ## Sleeping
 //!
-//! A sheet at rest costs nothing: when no gesture or obstacle is settling and no vertex moved
-//! faster than [`SLEEP_SPEED_M_S`] over the frame (positions, not velocities: a shape the
-//! solve and the projections after it agree on is at rest) for [`SLEEP_FRAMES`] consecutive
-//! frames, the
-//! velocities are zeroed and the sheet sleeps — `step` then only advances the frame counter
-//! (the work counter [`Sim::work_counter`] does not move). Any command that changes something
-//! wakes it.
+//! A sheet at rest costs nothing: when no gesture or obstacle is settling and no vertex has
+//! left a box of ±[`REST_BOX_M`] around where it was at the start of the last
+//! [`SLEEP_FRAMES`] frames (positions, not velocities: a shape the solve and the projections
+//! after it agree on is at rest), the velocities are zeroed and the sheet sleeps — `step` then
+//! only advances the frame counter (the work counter [`Sim::work_counter`] does not move). Any
+//! command that changes something wakes it. The box is [`SLEEP_SPEED_M_S`] over the window: a
+//! sheet creeping faster stays awake, as with a per-frame speed test; what the box adds is that
+//! a vertex chattering in place — a layer pressed on another by held hands going back and
+//! forth by tenths of a millimetre every frame, a limit cycle of the solve and the contact —
+//! is at rest (real paper held still does not chatter; docs/decisions.md, "Chatter in place is
+//! rest").
 //!
 //! ## Where each part lives
 //!
@@ -164,6 +168,10 @@ pub const SLEEP_SPEED_M_S: f64 = 5e-3;
 const FIBRE_STREAM: u64 = 0x6669_6272;
 /// Consecutive quiet frames before the sheet falls asleep.
 pub const SLEEP_FRAMES: u32 = 40;
+/// Largest distance of any vertex from where it was at the start of the sleep window at the
+/// default frame rate, metres (module doc, "Sleeping"): [`SLEEP_SPEED_M_S`] over
+/// [`SLEEP_FRAMES`] frames, 1 mm; at other frame rates the window's duration scales it.
+pub const REST_BOX_M: f64 = SLEEP_SPEED_M_S * SLEEP_FRAMES as f64 / DEFAULT_FRAME_RATE_HZ;
 /// Strain (largest principal stretch deviation, `Metrics::max_strain`) above which a stalled
 /// or pinned substep is solved again from rest with the hands held back (module doc, "A
 /// substep solved again"): half the stress tests' bound, five times the seed scenes' health
@@ -357,6 +365,9 @@ pub struct Sim {
     frame_start_pos: Vec<V3>,
     /// S_P positions at the start of every awake frame (the sleep test's motion).
     motion_start_pos: Vec<V3>,
+    /// S_P positions at the start of the sleep window (`quiet_frames` frames ago; empty: the
+    /// window starts at the next quiet frame).
+    rest_box_pos: Vec<V3>,
     /// Velocities at the start of the frame (the air the sheet moves, sound_analysis/air.rs).
     motion_start_vel: Vec<V3>,
     /// S_P pattern at the start of the frame (kept with `frame_start_pos`): a singular point
@@ -482,6 +493,7 @@ impl Sim {
             },
             frame_start_pos: Vec::with_capacity(mesh_capacity.0),
             motion_start_pos: Vec::with_capacity(mesh_capacity.0),
+            rest_box_pos: Vec::with_capacity(mesh_capacity.0),
             motion_start_vel: Vec::with_capacity(mesh_capacity.0),
             frame_start_pattern: Vec::with_capacity(mesh_capacity.0),
             pre_limit_pos: Vec::with_capacity(mesh_capacity.0),
@@ -654,6 +666,7 @@ impl Sim {
     fn wake(&mut self) {
         self.asleep = false;
         self.quiet_frames = 0;
+        self.rest_box_pos.clear();
     }
 
     /// Rebuilds a flat sheet with the current configuration (Reset, Size).
@@ -948,7 +961,8 @@ impl Sim {
         self.phase_ns.tear_ns = self.stopwatch.lap_ns();
 
         // Quiet: nothing drives the sheet and no vertex moved faster than SLEEP_SPEED_M_S
-        // over the frame. Measured on the positions, not the velocities: where the solve and
+        // over the frame, or none has left the rest box since the window started (module doc,
+        // "Sleeping"). Measured on the positions, not the velocities: where the solve and
         // the projections after it (obstacles, isometry, strain limit, a hand giving way)
         // agree on a shape, the sheet stands still whatever velocity the solve reads.
         let moved_m = if self.motion_start_pos.len() == self.sheet.sp.pos.len() {
@@ -962,19 +976,42 @@ impl Sim {
         } else {
             f64::INFINITY
         };
-        let quiet = !planes_moved
+        let undriven = !planes_moved
             && !tear_hands_moving
             && !self.tear.pending
             && !tear_moved
             && self.tear.drive_rad == self.rig.state.smoothed[GestureParam::TearAmount.index()]
             && !self.rig.is_moving()
-            && !self.obstacles.is_moving()
-            && moved_m < SLEEP_SPEED_M_S * dt;
-        self.quiet_frames = if quiet {
-            self.quiet_frames.saturating_add(1)
+            && !self.obstacles.is_moving();
+        let pos = &self.sheet.sp.pos;
+        if !undriven {
+            self.quiet_frames = 0;
+            self.rest_box_pos.clear();
         } else {
-            0
-        };
+            if self.rest_box_pos.len() != pos.len() {
+                // The window starts with this frame.
+                self.rest_box_pos.clear();
+                if self.motion_start_pos.len() == pos.len() {
+                    self.rest_box_pos.extend_from_slice(&self.motion_start_pos);
+                } else {
+                    self.rest_box_pos.extend_from_slice(pos);
+                }
+            }
+            let box_m = SLEEP_SPEED_M_S * f64::from(SLEEP_FRAMES) * dt;
+            let in_box = pos
+                .iter()
+                .zip(&self.rest_box_pos)
+                .all(|(a, b)| (a - b).norm() <= box_m);
+            self.quiet_frames = if in_box || moved_m < SLEEP_SPEED_M_S * dt {
+                self.quiet_frames.saturating_add(1)
+            } else {
+                0
+            };
+            if !in_box {
+                self.rest_box_pos.clear();
+                self.rest_box_pos.extend_from_slice(pos);
+            }
+        }
         if self.quiet_frames >= SLEEP_FRAMES {
             self.asleep = true;
             for v in &mut self.sheet.sp.vel {
@@ -1125,6 +1162,7 @@ impl Sim {
             obstacle_active: self.obstacles.planes.map(|p| p.active),
             asleep: self.asleep,
             quiet_frames: self.quiet_frames,
+            rest_box_m: self.rest_box_pos.iter().map(|p| [p.x, p.y, p.z]).collect(),
             geometry: Some(self.geometry.save()),
             contact_boosts: self.physics.contact_boosts().to_vec(),
             fibre_seed: (self.fibre_seed != self.cfg.seed).then_some(self.fibre_seed),
@@ -1205,6 +1243,11 @@ impl Sim {
         sim.frame = saved.frame;
         sim.asleep = saved.asleep;
         sim.quiet_frames = saved.quiet_frames;
+        sim.rest_box_pos.clear();
+        if saved.rest_box_m.len() == sim.sheet.sp.num_vertices() {
+            sim.rest_box_pos
+                .extend(saved.rest_box_m.iter().map(|p| V3::new(p[0], p[1], p[2])));
+        }
         for (k, p) in sim.obstacles.planes.iter_mut().enumerate() {
             if p.active && saved.obstacle_active[k] {
                 p.offset_m = saved.obstacle_offsets_m[k];

@@ -46,6 +46,7 @@ impl Sim {
         self.geometry.start_events_early();
         self.asleep = false;
         self.quiet_frames = 0;
+        self.rest_box_pos.clear();
         let (cap_v, cap_t) = self.mesh_capacity;
         let sp = &self.sheet.sp;
         let room = sp.num_vertices() < cap_v && sp.num_triangles() + 2 <= cap_t;

@@ -86,6 +86,10 @@ pub struct SavedSheet {
     pub asleep: bool,
     /// Consecutive quiet frames counted towards sleep.
     pub quiet_frames: u32,
+    /// Where each vertex was at the start of the sleep window ([`crate::sim::REST_BOX_M`];
+    /// absent in older saves, or empty: the window starts at the next quiet frame).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rest_box_m: Vec<[f64; 3]>,
     /// The geometry layer's persistent state (version ≥ 3; absent in version 2).
     #[serde(default)]
     pub geometry: Option<crate::geometry::SavedGeometry>,

@@ -45,8 +45,50 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
     let mut sim = fixture.restore(cfg).context("restoring the sheet")?;
     let mut out = FrameOutput::default();
     for k in 1..=frames {
+        let before = sim.sheet().sp.pos.clone();
         sim.step(&mut out);
         let s = &out.stats;
+        if std::env::var("FLIPS").is_ok() && s.num_flipped > 0 {
+            // FLIPS=1: each triangle whose normal turned by more than 90° this frame.
+            let sp = &sim.sheet().sp;
+            for (t, tri) in sp.triangles.iter().enumerate() {
+                let normal = |x: &[sim_core::math::V3]| {
+                    let [a, b, c] = tri.map(|i| x[i as usize]);
+                    (b - a).cross(&(c - a))
+                };
+                if before.len() != sp.pos.len() {
+                    break;
+                }
+                let (n0, n1) = (normal(&before), normal(&sp.pos));
+                if n0.dot(&n1) >= 0.0 {
+                    continue;
+                }
+                println!(
+                    "  flipped triangle {t} {tri:?}: area {:.2e} -> {:.2e} m² (rest {:.2e}), turned {:.0}°",
+                    0.5 * n0.norm(),
+                    0.5 * n1.norm(),
+                    sp.tri_rest[t].area_m2,
+                    n0.angle(&n1).to_degrees()
+                );
+                for &v in tri {
+                    let v = v as usize;
+                    let c = sim.contacts()[v];
+                    let boundary = sp
+                        .topo
+                        .edges
+                        .iter()
+                        .any(|e| e.is_boundary() && e.v.contains(&(v as u32)));
+                    println!(
+                        "    vertex {v}: moved {:.2} mm, held {:?}, contact {} {:?}, boundary {boundary}, pos {:?}",
+                        (sp.pos[v] - before[v]).norm() * 1e3,
+                        sim.rig().hand_of(v as u32),
+                        c.in_contact,
+                        c.obstacle,
+                        sp.pos[v].as_slice()
+                    );
+                }
+            }
+        }
         if std::env::var("STATS").is_ok() {
             println!("{s:?}");
         }
