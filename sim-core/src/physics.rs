@@ -375,6 +375,11 @@ impl Physics {
         self.frame.sheet.boosts()
     }
 
+    /// Drops every contact boost (the contact's own stiffness everywhere again).
+    pub fn clear_contact_boosts(&mut self) {
+        self.frame.sheet.clear_boosts();
+    }
+
     /// Restores saved contact boosts.
     pub fn set_contact_boosts(
         &mut self,

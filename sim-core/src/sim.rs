@@ -89,7 +89,10 @@
 //! ([`FrameStats::kept_crossed_start`]) and at most [`MAX_UNDO_STREAK`] frames (0.1 s) are
 //! undone in a row, since a crossing the replay cannot avoid froze the squeeze ("The
 //! pass-through guard: crossed starts and the undo streak"). An undone frame takes the flipped
-//! triangles' reference back.
+//! triangles' reference back. The frame let through after a streak drops the contact's
+//! boosts (sheet_contact.rs "Stiffening where the sheet crossed"): it ends crossed, and pairs
+//! stiffened ×4 per undone repeat (up to ×4096) threw the crossed layers apart at metres per
+//! second in the next frame, turning a triangle over ("Boosts dropped after an undo streak").
 //!
 //! ## An undone frame relaxed
 //!
@@ -821,6 +824,12 @@ impl Sim {
             }
         }
         if !guard {
+            if self.rig.state.undo_streak >= MAX_UNDO_STREAK {
+                // The frame let through ends crossed, and the contact stiffened up to
+                // MAX_BOOST by the streak would throw the crossed layers apart (module doc,
+                // "The pass-through guard").
+                self.physics.clear_contact_boosts();
+            }
             self.rig.state.undo_streak = 0;
         }
         self.phase_ns.self_contact_ns = self.stopwatch.lap_ns();

@@ -268,6 +268,11 @@ impl SheetContact {
         self.boosts.retain(|bo| bo.frames_left > 0);
     }
 
+    /// Drops every boost.
+    pub fn clear_boosts(&mut self) {
+        self.boosts.clear();
+    }
+
     /// The active boosts.
     pub fn boosts(&self) -> &[Boost] {
         &self.boosts
