@@ -1093,11 +1093,15 @@ impl GestureRig {
             i += 1;
             keep
         });
-        // A hand that gets its vertices back starts again from where the sheet is.
+        // A hand that gets its vertices back starts again from where the sheet is, with the
+        // grip of a new grab: its neighbours are claimed at the next recomputation (the claims
+        // above were made with its old grip).
+        let mut reanchored = false;
         for (k, &was) in was_suppressed.iter().enumerate() {
             if was && !self.suppressed[k] && self.state.hands[k].active {
                 let def = self.info[k].def;
                 self.state.hands[k].reanchor(&def, pos);
+                reanchored = true;
             }
         }
         for &(v, k, j) in &self.ownership {
@@ -1107,7 +1111,7 @@ impl GestureRig {
                 h.offsets_m[j as usize] = [o.x, o.y, o.z];
             }
         }
-        self.ownership_dirty = false;
+        self.ownership_dirty = reanchored;
     }
 
     /// Writes the kinematic constraints at fraction `s` ∈ [0, 1] of the current frame:
@@ -1664,6 +1668,50 @@ mod tests {
         // Rigid: the fingers keep their pattern distance.
         let dp = (sheet.sp.pattern[front] - sheet.sp.pattern[back]).norm();
         assert!(((target[front] - target[back]).norm() - dp).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_hand_back_from_standing_aside_holds_its_whole_grip() {
+        // The corner hands stand aside while the crumple hands hold their corners, and take
+        // them back with a new grab's grip when the crumple ends: every vertex of that grip is
+        // held (not only those of the grip they had when they stood aside).
+        let (sheet, mut rig, obs, mut rng) = setup();
+        rig.grab(GrabSlot::Corners, 1.0, &sheet.sp.pos);
+        run(&mut rig, &sheet, &obs, &mut rng, 2);
+        // The corners' rings let go (as the strain release does).
+        for k in 4..8 {
+            let nm = rig.info[k].def.num_mains;
+            rig.state.hands[k].mask &= (1u16 << nm) - 1;
+        }
+        rig.ownership_dirty = true;
+        rig.set_gesture(GestureParam::Crumple, 1.0);
+        run(&mut rig, &sheet, &obs, &mut rng, 5);
+        rig.set_gesture(GestureParam::Crumple, 0.0);
+        for _ in 0..400 {
+            run(&mut rig, &sheet, &obs, &mut rng, 1);
+            if !rig.state.crumple_active {
+                break;
+            }
+        }
+        assert!(!rig.state.crumple_active);
+        run(&mut rig, &sheet, &obs, &mut rng, 2);
+        for k in 4..8 {
+            assert!(!rig.suppressed[k]);
+            let (h, def) = (&rig.state.hands[k], &rig.info[k].def);
+            assert!(
+                def.num_vertices > def.num_mains,
+                "corner hand {k} has a ring"
+            );
+            for j in 0..def.num_vertices as usize {
+                if h.holds(j) {
+                    let v = def.vertices[j];
+                    assert!(
+                        rig.ownership.contains(&(v, k as u8, j as u8)),
+                        "hand {k} grips vertex {v} but does not hold it"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

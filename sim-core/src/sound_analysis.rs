@@ -467,16 +467,7 @@ impl SoundAnalysis {
         }
 
         // Friction.
-        self.stats.friction_events = self.friction.detect(
-            sp,
-            &self.curvature,
-            &self.regions,
-            &mut self.finder,
-            input,
-            &cfg,
-            out,
-        );
-        self.stats.layer_friction_events = self.friction.detect_layers(
+        (self.stats.friction_events, self.stats.layer_friction_events) = self.friction.detect(
             sp,
             &self.curvature,
             &self.regions,

@@ -17,7 +17,7 @@
 //!
 //! **Layers rubbing on each other (beyond the seeds).** The seeds hear friction only against
 //! the table (T 1770); in a real crumple the layers of the sheet slide over each other and rub.
-//! [`FrictionFinder::detect_layers`] makes the same sets from the vertices pressed on another
+//! [`FrictionFinder::detect`] also makes the same sets from the vertices pressed on another
 //! layer (`AnalysisInput::layer_slip`: the tangential speed of their sheet–sheet contact pairs,
 //! [`crate::physics::sheet_contact`]), each set rubbing as [`Obstacle::SelfContact`] through
 //! the same resonators and the same friction spectra as the table (no paper-on-paper
@@ -52,8 +52,10 @@ impl FrictionFinder {
         }
     }
 
-    /// Finds the sliding contact sets on the obstacles, appends their friction sources to `out`
-    /// and returns the number of sliding sets.
+    /// Finds the sliding contact sets on the obstacles, then the sets of vertices pressed on
+    /// another layer of the sheet and sliding on it (`AnalysisInput::layer_slip`; a vertex
+    /// touching an obstacle rubs there instead), appends their friction sources to `out` and
+    /// returns the numbers of sliding sets: on obstacles, between layers.
     #[allow(clippy::too_many_arguments)]
     pub fn detect(
         &mut self,
@@ -64,40 +66,24 @@ impl FrictionFinder {
         input: &AnalysisInput<'_>,
         cfg: &AnalysisConfig,
         out: &mut SoundFrame,
-    ) -> u32 {
-        let at = |v: usize| {
+    ) -> (u32, u32) {
+        let on_obstacle = |v: usize| {
             input
                 .contacts
                 .get(v)
                 .filter(|c| c.in_contact)
                 .map(|c| (c.slip_speed_m_s, c.obstacle))
         };
-        self.detect_sets(sp, curv, regions, finder, input, cfg, at, out)
-    }
-
-    /// Finds the sets of vertices pressed on another layer of the sheet and sliding on it
-    /// (`AnalysisInput::layer_slip`; vertices touching an obstacle rub there instead), appends
-    /// their friction sources to `out` and returns the number of sliding sets.
-    #[allow(clippy::too_many_arguments)]
-    pub fn detect_layers(
-        &mut self,
-        sp: &PhysMesh,
-        curv: &Curvature,
-        regions: &VibrationRegions,
-        finder: &mut ResonatorFinder,
-        input: &AnalysisInput<'_>,
-        cfg: &AnalysisConfig,
-        out: &mut SoundFrame,
-    ) -> u32 {
-        let at = |v: usize| {
-            let on_obstacle = input.contacts.get(v).is_some_and(|c| c.in_contact);
+        let on_layer = |v: usize| {
             input
                 .layer_slip
                 .get(v)
-                .filter(|s| **s >= 0.0 && !on_obstacle)
+                .filter(|s| **s >= 0.0 && on_obstacle(v).is_none())
                 .map(|s| (*s, Obstacle::SelfContact))
         };
-        self.detect_sets(sp, curv, regions, finder, input, cfg, at, out)
+        let obstacles = self.detect_sets(sp, curv, regions, finder, input, cfg, on_obstacle, out);
+        let layers = self.detect_sets(sp, curv, regions, finder, input, cfg, on_layer, out);
+        (obstacles, layers)
     }
 
     /// Connected sets of the vertices where `at` gives (slip speed, obstacle).

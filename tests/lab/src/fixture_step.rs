@@ -9,7 +9,7 @@
 //! `NOSHEETCONTACT=1` without sheet–sheet contact; `PIECES=1` lists each piece of the sheet
 //! after the last frame (triangles, vertices, fastest speed, held vertices and their hands);
 //! `CROSSINGS=1` lists each frame's crossing triangle pairs (how many between pieces) and the
-//! closest approach.
+//! closest approach; `STRAINEST=1` the most strained triangle and its vertices' hands.
 
 use anyhow::Context;
 use sim_core::sim::{FrameOutput, SavedSheet, SimConfig};
@@ -125,6 +125,21 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                 c.obstacle,
                 sim.geometry().isometry.max_disp_m,
                 s.asleep
+            );
+        }
+        if std::env::var("STRAINEST").is_ok() {
+            // STRAINEST=1: the most strained triangle, its vertices' hands and strains.
+            let sp = &sim.sheet().sp;
+            let (t, strain) = (0..sp.num_triangles())
+                .map(|t| {
+                    let x = sp.triangles[t].map(|i| sp.pos[i as usize]);
+                    (t, sim_core::metrics::triangle_strain(sp, t, x))
+                })
+                .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+            let held = sp.triangles[t].map(|v| sim.rig().hand_of(v));
+            println!(
+                "  most strained triangle {t} {:?} at {strain:.3}, hands {held:?}",
+                sp.triangles[t]
             );
         }
         if std::env::var("CROSSINGS").is_ok() {
