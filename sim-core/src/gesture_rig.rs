@@ -48,8 +48,9 @@
 //!   grips one edge apart tear the paper between them as they move) and go when c is back
 //!   at 0. Point handles, because rigid patches of neighbouring
 //!   hands would collide as the ring shrinks ("Hands, grip and obstacles"); but a hand alone
-//!   on a piece torn off (or sharing it with one other) holds its 1-ring as a pinch, else the
-//!   piece swings on it as a pendulum nothing stops (docs/decisions.md, "Shake depth").
+//!   on a piece torn off (or sharing it with one or two others) holds its 1-ring as a pinch,
+//!   else the piece swings on it as a pendulum nothing stops (docs/decisions.md, "Shake
+//!   depth"), or flaps about the lines between three points.
 //!
 //! **Pieces held on one line.** A piece whose held vertices are fewer than three or on one
 //! line hangs as a pendulum or a hinge; once the hands are still, a hand holding a handle
@@ -502,10 +503,12 @@ impl GestureRig {
     /// Fits the hands' grips to the pieces of the sheet: labels each vertex with its piece
     /// ([`Self::hold_hinged_pieces`]); on a torn sheet, every slot hand takes the torn mesh's
     /// rings around its handle vertices, and a crumple hand that shares its piece with at most
-    /// one other crumple hand holds its handle's 1-ring as a pinch instead of the bare point: a piece hanging from one
-    /// point is a pendulum, and one hanging from two points swings about the line through them
-    /// (a hinge); point handles hold no rotation, while fingers pinching paper hold its tangent
-    /// plane. Three or more point handles on a piece hold it as a body. On a whole sheet every
+    /// two other crumple hands holds its handle's 1-ring as a pinch instead of the bare point:
+    /// a piece hanging from one point is a pendulum, one hanging from two points swings about
+    /// the line through them (a hinge), and one held at three points flaps about the lines
+    /// between them (a torn half held at three crumple points swung for 2 s in the stress
+    /// sessions); point handles hold no rotation, while fingers pinching paper hold its tangent
+    /// plane. On a whole sheet every
     /// crumple hand shares the piece with seven others and stays a point (the ring shrinks
     /// without neighbouring hands' patches colliding). The ring is the torn mesh's (one taken
     /// before the tear may reach across a lip); active hands whose grip changes re-anchor
@@ -539,7 +542,7 @@ impl GestureRig {
             let others = (NUM_SLOT_HANDS..NUM_HANDS)
                 .filter(|&j| j != k && piece_of(&self.info[j]) == own)
                 .count();
-            if others > 1 {
+            if others > 2 {
                 continue;
             }
             // The ring of the torn mesh (a ring taken before the tear may reach across a lip).
@@ -1322,7 +1325,7 @@ mod tests {
     /// A crumple hand left alone on a piece torn off the sheet holds its 1-ring; the others,
     /// sharing the rest of the sheet, stay points, and a whole sheet has only points.
     #[test]
-    fn a_crumple_hand_on_a_piece_held_at_one_or_two_points_holds_its_ring() {
+    fn a_crumple_hand_on_a_piece_held_at_one_two_or_three_points_holds_its_ring() {
         use crate::sheet::geometric::GeomStructure;
         use crate::sheet::tear_step::{TearFrom, advance_tear};
         let whole = Sheet::new_flat(SheetSize::A6, MeshConfig::default(), 0.75, 0.1);
@@ -1399,6 +1402,26 @@ mod tests {
             }
         }
         assert_eq!(pinched, 2);
+        // The back strip torn off across the sheet: three crumple hands on it (the back
+        // corners and the back edge's middle), whose piece still flaps about the lines between
+        // them: all three pinch; the five on the rest stay points.
+        let y_cut = -0.5 * hl + 0.002;
+        let torn = tear_off(&[V2::new(-hw, y_cut), V2::new(hw, y_cut)]);
+        let rig = GestureRig::new(&torn, 0.75);
+        let mut pinched = 0;
+        for k in NUM_SLOT_HANDS..NUM_HANDS {
+            let def = &rig.info[k].def;
+            if handle(&whole_rig, k).y < y_cut {
+                assert!(def.num_vertices >= 3, "hand {k} on the strip pinches");
+                pinched += 1;
+            } else {
+                assert_eq!(
+                    def.num_vertices, 1,
+                    "hand {k} shares its piece with 4: a point"
+                );
+            }
+        }
+        assert_eq!(pinched, 3);
     }
 
     fn setup() -> (Sheet, GestureRig, Obstacles, rand_pcg::Pcg32) {

@@ -141,6 +141,15 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                 "  most strained triangle {t} {:?} at {strain:.3}, hands {held:?}",
                 sp.triangles[t]
             );
+            for k in held.iter().flatten() {
+                let d = sim.rig().hand_def(*k);
+                println!(
+                    "    hand {k}: handle vertices {:?}, ring {:?}, state {:?}",
+                    &d.vertices[..d.num_mains as usize],
+                    &d.vertices[d.num_mains as usize..d.num_vertices as usize],
+                    sim.rig().state.hands[*k]
+                );
+            }
         }
         if std::env::var("CROSSINGS").is_ok() {
             let sp = &sim.sheet().sp;
