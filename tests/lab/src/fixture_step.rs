@@ -9,7 +9,8 @@
 //! `NOSHEETCONTACT=1` without sheet–sheet contact; `PIECES=1` lists each piece of the sheet
 //! after the last frame (triangles, vertices, fastest speed, held vertices and their hands);
 //! `CROSSINGS=1` lists each frame's crossing triangle pairs (how many between pieces) and the
-//! closest approach; `STRAINEST=1` the most strained triangle and its vertices' hands.
+//! closest approach; `STRAINEST=1` the most strained triangle and its vertices' hands;
+//! `HANDS=1` each active hand's travel in the frame and its slip.
 
 use anyhow::Context;
 use sim_core::sim::{FrameOutput, SavedSheet, SimConfig};
@@ -149,6 +150,22 @@ pub fn run(args: &[String]) -> anyhow::Result<()> {
                     &d.vertices[d.num_mains as usize..d.num_vertices as usize],
                     sim.rig().state.hands[*k]
                 );
+            }
+        }
+        if std::env::var("HANDS").is_ok() {
+            // HANDS=1: each active hand's travel this frame and whether it slipped.
+            for (k, h) in sim.rig().state.hands.iter().enumerate() {
+                if h.active {
+                    let d = h.pose.pos() - h.prev_pose.pos();
+                    println!(
+                        "    hand {k}: moved {:.3} mm {:?}, slipping {}, sliding {}, slip gain {:.3}",
+                        d.norm() * 1e3,
+                        (d * 1e3).as_slice(),
+                        h.slipping,
+                        h.sliding,
+                        h.slip_gain
+                    );
+                }
             }
         }
         if std::env::var("CROSSINGS").is_ok() {
